@@ -1,0 +1,88 @@
+"""Registry of the generated contact laws and validation of their parameters.
+
+Each law is a generated module of :mod:`fricstab.generated` (written by
+``python -m symbolic.codegen`` from :mod:`symbolic.laws`); this module wraps
+them in a :class:`LawInfo` and checks user input before it reaches a kernel.
+
+Sign and coordinate conventions are those of the generated modules' docstrings:
+Jacobian blocks are ``K = dF/dq`` (Charan's sign).  Ishima's Jacobian
+(Ishima Eq. 18) is ``-K`` in the coordinates (x, y, l = d theta/2).
+"""
+
+import importlib
+import math
+from dataclasses import dataclass
+
+from fricstab.generated import LAW_NAMES
+
+__all__ = ["LAW_NAMES", "LawInfo", "ParameterError", "check_parameters", "get_law"]
+
+
+class ParameterError(ValueError):
+    """Bad user input; the message names the parameter."""
+
+
+@dataclass(frozen=True)
+class LawInfo:
+    """A generated contact law: metadata and its numba kernels."""
+
+    name: str
+    kind: str  # "pair" or "wall"
+    inputs: tuple
+    coords: tuple
+    outputs: tuple
+    history: tuple
+    coulomb: bool
+    force: object
+    force_jacobian: object
+    increment: object  # None for frictionless laws
+    assemble: object
+
+    @property
+    def n_dof(self):
+        """Degrees of freedom per particle (2 frictionless, 3 frictional)."""
+        return len(self.coords) // (2 if self.kind == "pair" else 1)
+
+    @property
+    def params(self):
+        """Material parameters among the inputs, in kernel order."""
+        return tuple(a for a in self.inputs if a in ("kn", "kt", "mu"))
+
+
+_CACHE = {}
+
+
+def get_law(name):
+    """The :class:`LawInfo` of law ``name``; ParameterError if unknown."""
+    if name not in LAW_NAMES:
+        raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(LAW_NAMES)}")
+    if name not in _CACHE:
+        mod = importlib.import_module(f"fricstab.generated.{name}")
+        _CACHE[name] = LawInfo(
+            name=name, kind=mod.KIND, inputs=mod.INPUTS, coords=mod.COORDS,
+            outputs=mod.OUTPUTS, history=mod.HISTORY, coulomb=mod.COULOMB,
+            force=getattr(mod, f"{name}_force"),
+            force_jacobian=getattr(mod, f"{name}_force_jacobian"),
+            increment=getattr(mod, f"{name}_increment", None),
+            assemble=getattr(mod, f"{name}_assemble"))
+    return _CACHE[name]
+
+
+_POSITIVE = ("kn", "kt", "mu", "R", "Ri", "Rj", "radius")
+
+
+def check_parameters(**values):
+    """Raise ParameterError naming the first bad parameter.
+
+    Radii, stiffnesses and the friction coefficient must be finite and > 0;
+    every other value must be finite.
+    """
+    for key, v in values.items():
+        try:
+            x = float(v)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{key} must be a number, got {v!r}") from None
+        if not math.isfinite(x):
+            raise ParameterError(f"{key} must be finite, got {v!r}")
+        if key in _POSITIVE and x <= 0.0:
+            raise ParameterError(f"{key} must be > 0, got {v!r}")

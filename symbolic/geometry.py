@@ -1,0 +1,151 @@
+"""Geometric intermediates and the chain rule over them.
+
+The contact laws are written in terms of a few intermediate quantities
+(centre distance ``r``, contact normal ``n``, overlap ``delta``, its square
+root ``sdelta`` and the tangential magnitude ``tn``) instead of the raw
+coordinates.  Differentiating with an explicit chain rule over these symbols
+keeps the derivatives in the compact, well-conditioned form a careful hand
+derivation would have, and lets the code generator evaluate each intermediate
+once.  ``expand_geometry`` substitutes the intermediates back, so tests can
+check the chain-rule derivative against plain ``sympy.diff`` of the fully
+expanded expression.
+
+Two intermediates are chosen for numerical safety at the extremes:
+
+* ``inv_tn`` stands for ``1/|t|`` wherever differentiation of ``|t|`` produces
+  it.  In every Jacobian entry it multiplies a product ``t_a t_b`` (or ``t^2``),
+  so the generated code defines ``inv_tn = 0`` at ``t = 0``, which is the
+  exact limit.
+* ``ny**2/r`` rather than ``(1 - nx**2)/r`` for the derivative of ``nx``, so
+  there is no cancellation when ``n`` is along an axis.
+"""
+
+import sympy as sp
+
+__all__ = [
+    "PairGeometry",
+    "WallGeometry",
+    "chain_diff",
+    "expand_geometry",
+]
+
+
+class PairGeometry:
+    """Intermediates of a disk-disk contact; base variables dx, dy, tx, ty.
+
+    ``dx = x_i - x_j`` and ``dy = y_i - y_j``; ``n = (dx, dy)/r`` points from
+    particle j to particle i; ``delta = R_i + R_j - r``.
+    """
+
+    def __init__(self):
+        s = sp.Symbol
+        self.dx, self.dy = s("dx", real=True), s("dy", real=True)
+        self.tx, self.ty = s("tx", real=True), s("ty", real=True)
+        self.r = s("r", positive=True)
+        self.nx, self.ny = s("nx", real=True), s("ny", real=True)
+        self.delta = s("delta", positive=True)
+        self.sdelta = s("sdelta", positive=True)
+        self.tn = s("tn", nonnegative=True)
+        self.inv_tn = s("inv_tn", nonnegative=True)
+        self.base = (self.dx, self.dy, self.tx, self.ty)
+
+    def intermediates(self):
+        """Ordered (symbol, definition) pairs, each in terms of earlier ones."""
+        return [
+            (self.r, sp.sqrt(self.dx**2 + self.dy**2)),
+            (self.nx, self.dx / self.r),
+            (self.ny, self.dy / self.r),
+            (self.delta, sp.Symbol("Ri", positive=True) + sp.Symbol("Rj", positive=True) - self.r),
+            (self.sdelta, sp.sqrt(self.delta)),
+            (self.tn, sp.sqrt(self.tx**2 + self.ty**2)),
+            (self.inv_tn, 1 / self.tn),
+        ]
+
+    def partials(self):
+        """d(intermediate)/d(base variable), as expressions in intermediates."""
+        nx, ny, r, sd = self.nx, self.ny, self.r, self.sdelta
+        return {
+            self.r: {self.dx: nx, self.dy: ny},
+            self.nx: {self.dx: ny**2 / r, self.dy: -nx * ny / r},
+            self.ny: {self.dx: -nx * ny / r, self.dy: nx**2 / r},
+            self.delta: {self.dx: -nx, self.dy: -ny},
+            self.sdelta: {self.dx: -nx / (2 * sd), self.dy: -ny / (2 * sd)},
+            self.tn: {self.tx: self.tx * self.inv_tn, self.ty: self.ty * self.inv_tn},
+            self.inv_tn: {
+                self.tx: -self.tx * self.inv_tn**3,
+                self.ty: -self.ty * self.inv_tn**3,
+            },
+        }
+
+
+class WallGeometry:
+    """Intermediates of a disk on the flat substrate y = 0; base variables y, t.
+
+    The normal is the unit vector y-hat, ``delta = R - y`` and the tangential
+    displacement is a scalar ``t`` along x-hat.
+    """
+
+    def __init__(self):
+        s = sp.Symbol
+        self.y = s("y", real=True)
+        self.t = s("t", real=True)
+        self.delta = s("delta", positive=True)
+        self.sdelta = s("sdelta", positive=True)
+        self.tn = s("tn", nonnegative=True)
+        self.inv_tn = s("inv_tn", nonnegative=True)
+        self.base = (self.y, self.t)
+
+    def intermediates(self):
+        return [
+            (self.delta, sp.Symbol("R", positive=True) - self.y),
+            (self.sdelta, sp.sqrt(self.delta)),
+            (self.tn, sp.sqrt(self.t**2)),
+            (self.inv_tn, 1 / self.tn),
+        ]
+
+    def partials(self):
+        return {
+            self.delta: {self.y: sp.Integer(-1)},
+            self.sdelta: {self.y: -1 / (2 * self.sdelta)},
+            self.tn: {self.t: self.t * self.inv_tn},
+            self.inv_tn: {self.t: -self.t * self.inv_tn**3},
+        }
+
+
+def chain_diff(expr, geometry, dbase):
+    """Total derivative of ``expr`` along a direction given on the base variables.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        Expression in base variables, intermediates and parameters.
+    geometry : PairGeometry or WallGeometry
+    dbase : dict
+        ``{base_symbol: d(base)/d(coordinate)}``; missing entries are zero.
+
+    Returns
+    -------
+    sympy.Expr
+        ``sum_b (d expr/d b) dbase[b] + sum_g (d expr/d g) sum_b (d g/d b) dbase[b]``
+        where the partial derivatives treat every symbol as independent.
+    """
+    partials = geometry.partials()
+    total = sp.Integer(0)
+    free = expr.free_symbols
+    for b in geometry.base:
+        if b in free and b in dbase:
+            total += sp.diff(expr, b) * dbase[b]
+    for g, table in partials.items():
+        if g not in free:
+            continue
+        dg = sum((table[b] * dbase[b] for b in table if b in dbase), sp.Integer(0))
+        if dg != 0:
+            total += sp.diff(expr, g) * dg
+    return total
+
+
+def expand_geometry(expr, geometry):
+    """Substitute every intermediate by its definition (for symbolic tests)."""
+    for sym, definition in reversed(geometry.intermediates()):
+        expr = expr.subs(sym, definition)
+    return expr

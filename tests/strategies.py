@@ -1,0 +1,49 @@
+"""Hypothesis strategies for contact configurations, reaching the extremes.
+
+Each parameter draws its end points exactly (``|t|/t* = 0`` and ``1``,
+``delta/R = 1e-12`` and ``0.1``, ``kt/kn = 1e-10`` and ``10``, ``mu = 0.1``
+and ``100``, radius ratio 1 and 1.4) as well as values in between,
+log-uniformly where the range spans decades.
+"""
+
+import math
+
+from hypothesis import strategies as st
+
+from fricstab.verify import EXTREMES, Case
+
+__all__ = ["cases", "directions"]
+
+
+def _ranged(key, log=True):
+    lo, hi = EXTREMES[key]
+    if log:
+        inner = st.floats(math.log(lo), math.log(hi)).map(math.exp)
+    else:
+        inner = st.floats(lo, hi)
+    return st.one_of(st.sampled_from([lo, hi]), inner.map(lambda v: min(max(v, lo), hi)))
+
+
+_angle = st.floats(0.0, 2 * math.pi)
+
+
+@st.composite
+def cases(draw):
+    """A :class:`fricstab.verify.Case` anywhere in the verified ranges."""
+    phi = draw(_angle)
+    tangent = draw(st.booleans())
+    psi = phi + math.pi / 2 if tangent else draw(_angle)
+    return Case(
+        delta_over_R=draw(_ranged("delta_over_R")),
+        t_ratio=draw(_ranged("t_ratio", log=False)),
+        phi=phi, psi=psi,
+        kt_over_kn=draw(_ranged("kt_over_kn")),
+        mu=draw(_ranged("mu")),
+        radius_ratio=draw(_ranged("radius_ratio", log=False)),
+    )
+
+
+def directions(n):
+    """A Taylor-test direction with n components in [-1, 1], not all tiny."""
+    return st.lists(st.floats(-1.0, 1.0), min_size=n, max_size=n).filter(
+        lambda v: max(abs(x) for x in v) > 0.1)

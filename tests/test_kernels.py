@@ -1,0 +1,215 @@
+"""Property tests of the generated contact kernels (hypothesis, all laws).
+
+Error models behind the tolerances
+----------------------------------
+* Complex step (h = 1e-20 L): truncation O(h^2) ~ 1e-40, no subtractive
+  cancellation.  Both it and the generated block are float64 evaluations of
+  expressions of ~100 operations: they differ by ~64 eps of the terms a row
+  sums, i.e. 64 eps kappa of the row (kappa = cancellation_factor: normal
+  against tangential stiffness, or torque terms that cancel exactly for a
+  history along the normal).  Bound: max(1e-12, 64 eps kappa).
+* 50-digit central differences (h = 1e-20 L): truncation < 1e-30 and
+  round-off ~1e-30; what remains is the float64 rounding of the generated
+  block, as above.
+* float64 central differences at the best step: the floor predicted by
+  :func:`fricstab.verify.central_error_model` (truncation, round-off, first
+  order at the C1 points t = 0 and |t| = t*, the last bit of the centre
+  distance, cancellation within a row); a case may exceed the 1e-6 bound only
+  within 10x of that floor.
+* Taylor test over h = 1e-3 .. 1e-8 L with F and K both evaluated in 50
+  digits (the generated sources): the remainder is c2 h^2 + c3 h^3 + 1e-50;
+  the cubic term moves the fitted slope by ~c3/c2 1e-3 L, so the slope lies
+  in [1.9, 2.1] (a first-order error in K would give 1).  Where c2 vanishes
+  (F linear along dq) or the float64 base point lies within rounding of the
+  slip kink, the remainder must instead stay below the block's own rounding,
+  64 eps kappa h (taylor_consistent).
+"""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from fricstab._numerics import overlap_correction
+from fricstab.laws import LAW_NAMES, get_law
+from fricstab.verify import (
+    CENTRAL_BOUND, EXTREMES, Case, cancellation_factor, case_inputs, exact_reference_bound, central_error_model, central_jacobian,
+    complex_step_jacobian, generated_jacobian, mp_central_jacobian, reference_increment,
+    row_relative_error, taylor_consistent, taylor_slope, uncancelled_scale,
+)
+from tests.strategies import cases, directions
+
+EPS = np.finfo(float).eps
+
+
+def _setup(name, case):
+    law = get_law(name)
+    args = case_inputs(law, case)
+    f, jac = generated_jacobian(law, args)
+    return law, args, f, jac, reference_increment(law, args)
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+@given(case=cases())
+def test_complex_step_agrees(name, case):
+    law, args, f, jac, inc = _setup(name, case)
+    assert np.all(np.isfinite(f)) and np.all(np.isfinite(jac))
+    jcs = complex_step_jacobian(law, args, inc)
+    err = row_relative_error(jac, jcs)
+    assert err <= exact_reference_bound(cancellation_factor(law, args, jcs))
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+@given(case=cases())
+def test_central_differences_agree_within_their_floor(name, case):
+    law, args, f, jac, inc = _setup(name, case)
+    jfd, _ = central_jacobian(law, args, inc, jac)
+    err = row_relative_error(jac, jfd)
+    assert err <= max(CENTRAL_BOUND, 10.0 * central_error_model(law, args, jfd))
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+@given(case=cases())
+@settings(max_examples=25)
+def test_mp50_central_differences_agree(name, case):
+    law, args, f, jac, inc = _setup(name, case)
+    jmp = mp_central_jacobian(law, args, inc)
+    err = row_relative_error(jac, jmp)
+    assert err <= exact_reference_bound(cancellation_factor(law, args, jmp))
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+@given(case=cases(), data=st.data())
+@settings(max_examples=25)
+def test_taylor_remainder_is_second_order(name, case, data):
+    law, args, f, jac, inc = _setup(name, case)
+    direction = data.draw(directions(len(law.coords)))
+    slope, errs = taylor_slope(law, args, inc, direction)
+    kappa = cancellation_factor(law, args, jac)
+    assert taylor_consistent(slope, errs, kappa), (slope, errs)
+
+
+@pytest.mark.parametrize("name", [n for n in LAW_NAMES if get_law(n).history])
+@given(case=cases())
+def test_generated_increment_is_the_papers_rule(name, case):
+    law = get_law(name)
+    args = case_inputs(law, case)
+    a = np.empty((len(law.history), len(law.coords)))
+    geo = [args[law.inputs.index(k)] for k in law.inputs if k in ("dx", "dy", "Ri", "Rj", "y", "R")]
+    law.increment(*geo, a)
+    ref = reference_increment(law, args)
+    # I - n n^T written as ny^2 versus 1 - nx^2: a few eps of the unit scale.
+    assert np.max(np.abs(a - ref)) <= 8 * EPS * max(1.0, np.max(np.abs(ref)))
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+def test_no_contact_gives_zero_force_and_block(name):
+    law = get_law(name)
+    for gap in (0.0, 1e-9, 0.3):
+        v = {"kn": 1.0, "kt": 0.3, "mu": 0.5, "tx": 1e-3, "ty": -2e-3, "t": 1e-3,
+             "Ri": 0.5, "Rj": 0.6, "R": 0.5, "dx": 1.1 + gap, "dy": 0.0, "y": 0.5 + gap}
+        args = tuple(v[k] for k in law.inputs)
+        f, jac = generated_jacobian(law, args)
+        assert not f.any() and not jac.any()
+
+
+PAIR_LAWS = [n for n in LAW_NAMES if get_law(n).kind == "pair"]
+
+
+@pytest.mark.parametrize("name", PAIR_LAWS)
+@given(case=cases())
+def test_action_reaction_and_translation_zero_modes(name, case):
+    law, args, f, jac, inc = _setup(name, case)
+    dof = law.n_dof
+    scale = np.abs(f).max()
+    # Newton's third law: the forces on j are the opposite of those on i.
+    assert np.allclose(f[dof:dof + 2], -f[:2], rtol=0, atol=4 * EPS * scale)
+    if dof == 3:
+        # Same generalized torque sign on both (T_i/R_i = T_j/R_j, or F^l equal).
+        a = dict(zip(law.inputs, args))
+        ri, rj = (a["Ri"], a["Rj"]) if law.coords[2].startswith("theta") else (1.0, 1.0)
+        assert math.isclose(f[2] / ri, f[5] / rj, rel_tol=8 * EPS, abs_tol=8 * EPS * scale)
+    # Rigid translation of the pair changes nothing (history included).
+    rowscale = np.abs(jac).max(axis=1)
+    for c in range(2):
+        moved = jac[:, c] + jac[:, dof + c]
+        assert np.all(np.abs(moved) <= 64 * EPS * np.maximum(rowscale, 1e-300))
+
+
+COULOMB_LAWS = [n for n in LAW_NAMES if get_law(n).coulomb]
+
+
+@pytest.mark.parametrize("name", COULOMB_LAWS)
+@given(case=cases(), overshoot=st.floats(1.0, 1e6))
+def test_coulomb_condition_holds_for_any_history(name, case, overshoot):
+    """|F_t| <= mu F_n (Charan Eq. 4), also for a stored |t| beyond t*.
+
+    At the circle both sides are the same product computed in different
+    orders: a few eps apart; 1e-12 leaves room for thousands.
+    """
+    law = get_law(name)
+    big = Case(**{**case.__dict__, "t_ratio": case.t_ratio * overshoot})
+    args = case_inputs(law, big)
+    f, _ = generated_jacobian(law, args)
+    a = dict(zip(law.inputs, args))
+    if law.kind == "pair":
+        r = math.hypot(a["dx"], a["dy"])
+        n = np.array([a["dx"], a["dy"]]) / r
+        naive = a["Ri"] + a["Rj"] - r
+        delta = naive + overlap_correction(a["dx"], a["dy"], a["Ri"], a["Rj"], naive)
+        fn = a["kn"] * delta ** 1.5
+        ft = np.linalg.norm(f[:2] - fn * n)
+    else:
+        fn, ft = f[1], abs(f[0])
+    assert ft <= a["mu"] * fn * (1 + 1e-12)
+
+
+@pytest.mark.parametrize("name", COULOMB_LAWS)
+@given(case=cases())
+def test_block_is_continuous_across_the_coulomb_circle(name, case):
+    """At |t| = t* the smoothed law has zero radial stiffness: stick and slip agree."""
+    law = get_law(name)
+    args_in = case_inputs(law, Case(**{**case.__dict__, "t_ratio": 1 - 1e-9}))
+    inside = generated_jacobian(law, args_in)
+    outside = generated_jacobian(law, case_inputs(law, Case(**{**case.__dict__, "t_ratio": 1 + 1e-9})))
+    # Stick (s = 1 - ds) and slip (stored s = 1 + ds, rescaled onto the
+    # circle) must differ by O(ds), ds = 1e-9, not O(1) as a wrong slip branch
+    # would.  The O(ds) coefficient is a ratio of the law's stiffness scales
+    # within a row, e.g. 4 kt/(mu kn) for the radial stiffness
+    # kt delta^{1/2} (1 + 2s - 3s^2) ~ 4 kt delta^{1/2} (1 - s) against the
+    # slip stiffness ~mu kn delta^{1/2}; over the ranges it stays below ~1e2,
+    # so the bound is 500 ds (1 + kt/(mu kn)), plus rounding.
+    # Measured against the terms each row sums (uncancelled_scale): at mu = 1
+    # with t along n the Fx row itself is O(1 - s).
+    scale = uncancelled_scale(law, args_in)
+    jump = np.abs(outside[1] - inside[1]).max(axis=1) / scale
+    assert np.all(jump <= 5e-7 * (1 + case.kt_over_kn / case.mu) + 64 * EPS)
+    a = dict(zip(law.inputs, args_in))
+    delta = case.delta_over_R * (a["Ri"] if law.kind == "pair" else a["R"])
+    terms = a["kn"] * delta ** 1.5 * (1 + case.mu)  # |F_n| + |F_t| at the circle
+    assert np.all(np.abs(outside[0] - inside[0]) <= 5e-7 * terms + 64 * EPS * terms)
+
+
+CORNERS = list(itertools.product(EXTREMES["delta_over_R"], EXTREMES["t_ratio"],
+                                 EXTREMES["kt_over_kn"], EXTREMES["mu"],
+                                 EXTREMES["radius_ratio"]))
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+def test_every_corner_of_the_parameter_box(name):
+    """All 32 combinations of the end points, several orientations: finite and exact."""
+    law = get_law(name)
+    for corner in CORNERS:
+        for phi in (0.0, math.pi / 2, 1.0, 4.0):
+            case = Case(corner[0], corner[1], phi, phi + math.pi / 2, corner[2], corner[3],
+                        corner[4])
+            args = case_inputs(law, case)
+            f, jac = generated_jacobian(law, args)
+            assert np.all(np.isfinite(f)) and np.all(np.isfinite(jac)), case
+            inc = reference_increment(law, args)
+            jcs = complex_step_jacobian(law, args, inc)
+            err = row_relative_error(jac, jcs)
+            assert err <= exact_reference_bound(cancellation_factor(law, args, jcs)), case
