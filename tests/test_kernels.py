@@ -213,3 +213,72 @@ def test_every_corner_of_the_parameter_box(name):
             jcs = complex_step_jacobian(law, args, inc)
             err = row_relative_error(jac, jcs)
             assert err <= exact_reference_bound(cancellation_factor(law, args, jcs)), case
+
+
+def test_closed_forms_at_zero_history():
+    """Hand-derived values pin the sign conventions (see validation/errata.md).
+
+    n = x-hat, t = 0: dFx_i/dx_i = -(3/2) kn delta^{1/2} (Hertz), and the
+    rotational stiffness dT_i/dtheta_i = -kt delta^{1/2} R_i^2, i.e.
+    dT~/dtheta~ = -kt delta^{1/2} in Charan's scaled coordinates (the remark
+    after Charan SM Eq. 27 prints it with a + sign); for the wall
+    dT/dtheta = -kt delta^{1/2} R^2 too, and Ishima's dF^l_i/dl_i = -kT xi^{1/2}.
+    """
+    kn, kt, ri, rj, delta = 2.0, 0.7, 0.5, 0.6, 1e-3
+    sd = math.sqrt(delta)
+    pair = {"dx": ri + rj - delta, "dy": 0.0, "Ri": ri, "Rj": rj, "kn": kn, "kt": kt,
+            "mu": 10.0, "tx": 0.0, "ty": 0.0}
+    for name in ("hertz", "charan", "ishima"):
+        law = get_law(name)
+        f, jac = generated_jacobian(law, tuple(pair[k] for k in law.inputs))
+        assert math.isclose(jac[0, 0], -1.5 * kn * sd, rel_tol=1e-12)
+        if name == "charan":
+            assert math.isclose(jac[2, 2], -kt * sd * ri * ri, rel_tol=1e-12)
+            assert math.isclose(jac[5, 5], -kt * sd * rj * rj, rel_tol=1e-12)
+        if name == "ishima":
+            assert math.isclose(jac[2, 2], -kt * sd, rel_tol=1e-12)
+    law = get_law("charan_wall")
+    f, jac = generated_jacobian(law, (ri - delta, ri, kn, kt, 10.0, 0.0))
+    assert math.isclose(f[1], kn * delta * sd, rel_tol=1e-12)
+    assert math.isclose(jac[1, 1], -1.5 * kn * sd, rel_tol=1e-12)
+    assert math.isclose(jac[2, 2], -kt * sd * ri * ri, rel_tol=1e-12)
+    assert math.isclose(jac[0, 0], -kt * sd, rel_tol=1e-12)
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+def test_array_layer_matches_the_scalar_kernel(name):
+    """The generated loop over contacts accumulates what the scalar kernel gives."""
+    law = get_law(name)
+    rng = np.random.default_rng(5)
+    n = 4
+    pos = np.column_stack([np.arange(n) * 0.99, 0.5 - rng.uniform(1e-4, 1e-2, n)])
+    radius = np.full(n, 0.5)
+    params = {"kn": 2.0, "kt": 0.5, "mu": 3.0}
+    pvals = [params[p] for p in law.params]
+    nh = len(law.history)
+    forces = np.zeros((n, law.n_dof))
+    if law.kind == "pair":
+        contacts = np.array([[i, i + 1] for i in range(n - 1)])
+        sep = pos[contacts[:, 0]] - pos[contacts[:, 1]]
+        hist = rng.uniform(-1e-4, 1e-4, (len(contacts), nh))
+        blocks = np.empty((len(contacts), 2 * law.n_dof, 2 * law.n_dof))
+        law.assemble(sep, radius, contacts, *pvals, *([hist] if nh else []), forces, blocks)
+        expect = np.zeros_like(forces)
+        for c, (i, j) in enumerate(contacts):
+            args = (sep[c, 0], sep[c, 1], 0.5, 0.5, *pvals, *hist[c])
+            f, jac = generated_jacobian(law, args)
+            expect[i] += f[:law.n_dof]
+            expect[j] += f[law.n_dof:]
+            assert np.array_equal(blocks[c], jac)
+    else:
+        contacts = np.arange(n)
+        hist = rng.uniform(-1e-4, 1e-4, (n, nh))
+        blocks = np.empty((n, law.n_dof, law.n_dof))
+        law.assemble(pos, radius, contacts, *pvals, *([hist] if nh else []), forces, blocks)
+        expect = np.zeros_like(forces)
+        for c in contacts:
+            f, jac = generated_jacobian(law, (pos[c, 1], 0.5, *pvals, *hist[c]))
+            expect[c] += f
+            assert np.array_equal(blocks[c], jac)
+    assert np.allclose(forces, expect, rtol=1e-15, atol=0)
+    assert np.any(forces)

@@ -1,0 +1,70 @@
+"""Validation tiers of the kernel proof (`fricstab verify`) and the errata.
+
+Quick tier (CI): 150 configurations per law.  Slow tier (``pytest -m slow``):
+2,000 per law, the acceptance run of the README.  Bounds and why:
+
+* complex step and 50-digit central differences: 1e-12 wherever the row is
+  well conditioned; elsewhere within 64 eps times the cancellation factor
+  (fricstab.verify.exact_reference_bound): ``*_unexplained_cases == 0``;
+* float64 central differences at the best step: 1e-6, except within 10x of
+  the floor that the error model predicts (central_unexplained_cases == 0);
+* Taylor test: slope in [1.9, 2.1] or a remainder at the rounding level of
+  the block (taylor_failed_cases == 0);
+* no NaN or inf anywhere.
+"""
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from fricstab.laws import LAW_NAMES
+from fricstab.verify import sample_cases, verify_law
+
+HERE = Path(__file__).resolve().parent
+
+
+def _check(res):
+    assert res["nonfinite"] == 0
+    assert res["complex_step_unexplained_cases"] == 0
+    assert res["central_mp50_unexplained_cases"] == 0
+    assert res["max_rel_err_complex_step_well_conditioned"] <= 1e-12
+    assert res["max_rel_err_central_mp50_well_conditioned"] <= 1e-12
+    assert res["central_unexplained_cases"] == 0
+    assert res["max_rel_err_central_where_float64_can_resolve"] <= 1e-6
+    assert res["taylor_failed_cases"] == 0
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+def test_quick_tier(name):
+    _check(verify_law(name, sample_cases(150, 2024), 2024))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", LAW_NAMES)
+def test_acceptance_tier(name):
+    _check(verify_law(name, sample_cases(2000, 20261121), 20261121))
+
+
+def test_errata_cover_every_listed_equation():
+    out = subprocess.run([sys.executable, str(HERE / "errata_check.py")], check=True,
+                         capture_output=True, text=True).stdout
+    seen = set(re.findall(r"^(Charan|Ishima) Eq\. ([A-Z]?\d+)", out, re.M))
+    charan = {("Charan", str(n)) for n in list(range(9, 36)) + list(range(45, 62))}
+    ishima = {("Ishima", "36"), ("Ishima", "37")}
+    ishima |= {("Ishima", f"D{n}") for n in range(8, 24)}
+    ishima |= {("Ishima", f"F{n}") for n in range(1, 37)}
+    assert not (charan | ishima) - seen
+    # The markdown tables' first cells, with ranges ("53-55", "F19-F22") and
+    # lists ("17, 18") expanded, must name every equation as well.
+    cells = re.findall(r"^\|\s*\**([^|*]+?)\**\s*\|", (HERE / "errata.md").read_text(), re.M)
+    listed = set()
+    for cell in cells:
+        for part in re.split(r",\s*", cell):
+            m = re.fullmatch(r"(?:SM |main )?([A-Z]?)(\d+)(?:\s*-\s*([A-Z]?)(\d+))?", part.strip())
+            if m:
+                first, last = int(m.group(2)), int(m.group(4) or m.group(2))
+                listed |= {f"{m.group(1)}{n}" for n in range(first, last + 1)}
+    assert not {eq for _, eq in charan | ishima} - listed
