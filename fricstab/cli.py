@@ -36,26 +36,14 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _positive_int():
+def _int_at_least(minimum):
     def parse(text):
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
-        if value <= 0:
-            raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
-        return value
-    return parse
-
-
-def _nonnegative_int():
-    def parse(text):
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
-        if value < 0:
-            raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text!r}")
         return value
     return parse
 
@@ -94,9 +82,9 @@ def _parser():
     v = sub.add_parser("verify", help="prove the generated Jacobians (see README)")
     v.add_argument("--law", type=_law_list, default=list(LAW_NAMES),
                    help="law name, comma-separated names, or 'all' (default: all)")
-    v.add_argument("--cases", type=_positive_int(), default=200,
+    v.add_argument("--cases", type=_int_at_least(1), default=200,
                    help="configurations per law (default: 200)")
-    v.add_argument("--seed", type=_nonnegative_int(), default=0,
+    v.add_argument("--seed", type=_int_at_least(0), default=0,
                    help="seed of the configuration sampler (default: 0)")
     v.add_argument("--json", type=Path, default=None, metavar="PATH",
                    help="write the JSON report here")

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from fricstab.generated import LAW_NAMES
 
-__all__ = ["LAW_NAMES", "LawInfo", "ParameterError", "check_parameters", "get_law"]
+__all__ = ["LAW_NAMES", "LawInfo", "ParameterError", "check_parameters", "evaluate", "get_law"]
 
 
 class ParameterError(ValueError):
@@ -86,3 +86,30 @@ def check_parameters(**values):
             raise ParameterError(f"{key} must be finite, got {v!r}")
         if key in _POSITIVE and x <= 0.0:
             raise ParameterError(f"{key} must be > 0, got {v!r}")
+
+
+def evaluate(name, **inputs):
+    """Forces and Jacobian block of one contact, with the inputs checked.
+
+    ``inputs`` are the law's kernel arguments by name (``fricstab laws`` and
+    ``get_law(name).inputs`` list them), e.g. for ``charan``:
+    ``dx, dy, Ri, Rj, kn, kt, mu, tx, ty``.  Returns ``(f, jac)`` as float64
+    arrays; raises :class:`ParameterError` naming a missing, unknown or bad
+    argument (radii, stiffnesses and mu must be > 0, everything finite).
+    """
+    import numpy as np
+
+    law = get_law(name)
+    missing = [k for k in law.inputs if k not in inputs]
+    unknown = [k for k in inputs if k not in law.inputs]
+    if missing:
+        raise ParameterError(f"{name}: missing argument {missing[0]!r}; needs {', '.join(law.inputs)}")
+    if unknown:
+        raise ParameterError(f"{name}: unknown argument {unknown[0]!r}; takes {', '.join(law.inputs)}")
+    check_parameters(**inputs)
+    if law.kind == "pair" and inputs["dx"] == 0 and inputs["dy"] == 0:
+        raise ParameterError("dx, dy: coincident centres have no contact normal")
+    f = np.empty(len(law.outputs))
+    jac = np.empty((len(law.outputs), len(law.coords)))
+    law.force_jacobian(*(float(inputs[k]) for k in law.inputs), f, jac)
+    return f, jac

@@ -149,24 +149,28 @@ def case_inputs(law, case, radius=0.5, kn=1.0):
     return tuple(float(v[name]) for name in law.inputs)
 
 
-def reference_increment(law, args):
+def reference_increment(law, args, sqrt=math.sqrt):
     """``dt/dq`` written from the papers, independently of the SymPy source.
 
     Pair (Charan Eq. 2; Ishima Eq. D4 with arms 1 in the l coordinates):
     ``dt = (I - n n^T)(dr_i - dr_j) + (a_i dq3_i + a_j dq3_j)(n_y, -n_x)``.
-    Wall (Charan Eq. 2): ``dt = dx + R dtheta``.
+    Wall (Charan Eq. 2): ``dt = dx + R dtheta``.  With ``sqrt=mpmath.sqrt``
+    and mpmath inputs it is evaluated in that precision (an object array).
     """
     a = dict(zip(law.inputs, args))
     if not law.history:
         return np.zeros((0, len(law.coords)))
+    one, zero = a["kn"] / a["kn"], a["kn"] * 0
     if law.kind == "wall":
-        return np.array([[1.0, 0.0, a["R"]]])
-    r = math.hypot(a["dx"], a["dy"])
-    n = np.array([a["dx"] / r, a["dy"] / r])
-    p = np.eye(2) - np.outer(n, n)
-    rot = np.array([n[1], -n[0]])
-    arm_i, arm_j = (a["Ri"], a["Rj"]) if law.coords[2].startswith("theta") else (1.0, 1.0)
-    return np.column_stack([p, arm_i * rot, -p, arm_j * rot])
+        return np.array([[one, zero, a["R"]]])
+    r = sqrt(a["dx"] * a["dx"] + a["dy"] * a["dy"])
+    nx, ny = a["dx"] / r, a["dy"] / r
+    arm_i, arm_j = (a["Ri"], a["Rj"]) if law.coords[2].startswith("theta") else (one, one)
+    p = [[one - nx * nx, -nx * ny], [-nx * ny, one - ny * ny]]
+    return np.array([
+        [p[0][0], p[0][1], arm_i * ny, -p[0][0], -p[0][1], arm_j * ny],
+        [p[1][0], p[1][1], -arm_i * nx, -p[1][0], -p[1][1], -arm_j * nx],
+    ])
 
 
 def _overlap(law, a):
@@ -363,7 +367,10 @@ def taylor_slope(law, args, inc, direction):
         rowscale = [max(abs(jac[a, b]) for b in range(nq)) for a in range(nf)]
         block = max(rowscale)
         rowscale = [(r if r > 0 else block) * float(np.max(np.abs(dq))) for r in rowscale]
-        dt = inc @ dq
+        # The history moves by the increment rule evaluated in 50 digits too.
+        inc_mp = reference_increment(law, base, sqrt=mpmath.sqrt)
+        dt = [mpmath.fsum(inc_mp[row, k] * mdq[k] for k in range(nq))
+              for row in range(len(hidx))]
         for h in TAYLOR_STEPS:
             hh = mpmath.mpf(h)
             moved = list(base)
@@ -371,7 +378,7 @@ def taylor_slope(law, args, inc, direction):
                 for idx, coef in geo.items():
                     moved[idx] += coef * hh * mdq[k]
             for row, idx in enumerate(hidx):
-                moved[idx] += hh * mpmath.mpf(dt[row])
+                moved[idx] += hh * dt[row]
             f1 = _mp_eval(fn, moved, nf)
             rem = [abs(f1[a] - f0[a] - hh * lin[a]) / rowscale[a] for a in range(nf)]
             errs.append(float(max(rem)))
@@ -392,12 +399,15 @@ def taylor_slope(law, args, inc, direction):
 def uncancelled_scale(law, args):
     """Per row, the size of the terms that a row of the block sums.
 
-    ``(|F_n| + |F_t|)/delta + k_t delta^{1/2}`` for a force row, times the
-    radius (the arm) for a torque row.
+    A pair's force row sums normal and tangential terms,
+    ``(|F_n| + |F_t|)/delta + k_t delta^{1/2}``; a torque row (and the wall's
+    tangential row) only tangential ones, ``|F_t|/delta + k_t delta^{1/2}``,
+    times the arm for a torque; the wall's normal row ``|F_n|/delta``.
     """
     a = dict(zip(law.inputs, args))
     delta = _overlap(law, a)
     sd = math.sqrt(delta)
+    fn = a["kn"] * delta * sd
     ft = 0.0
     if law.history:
         tn = math.sqrt(sum(a[h] ** 2 for h in law.history))
@@ -405,13 +415,18 @@ def uncancelled_scale(law, args):
         if law.coulomb:
             s = min(tn / (a["mu"] * a["kn"] / a["kt"] * delta), 1.0)
             ft *= 1 + s - s * s
-    scale = (a["kn"] * delta * sd + ft) / delta + a.get("kt", 0.0) * sd
+    tangential = ft / delta + a.get("kt", 0.0) * sd if law.history else 0.0
     rows = []
     for i, name in enumerate(law.outputs):
-        arm = 1.0
-        if name.startswith("T"):
-            arm = a[("Ri", "Rj")[i // 3]] if law.kind == "pair" else a["R"]
-        rows.append(scale * arm)
+        if name.startswith(("T", "Fl")):
+            arm = 1.0
+            if name.startswith("T"):
+                arm = a[("Ri", "Rj")[i // 3]] if law.kind == "pair" else a["R"]
+            rows.append(tangential * arm)
+        elif law.kind == "wall":
+            rows.append(fn / delta if name == "Fy" else tangential)
+        else:
+            rows.append(fn / delta + tangential)
     return np.array(rows)
 
 

@@ -34,7 +34,7 @@ __all__ = ["generate_law", "main", "render_all"]
 
 OUT_DIR = Path(__file__).resolve().parent.parent / "fricstab" / "generated"
 COMMAND = "python -m symbolic.codegen"
-TEMPLATE_VERSION = "3"
+TEMPLATE_VERSION = "4"
 
 
 class _KernelPrinter(PythonCodePrinter):
@@ -178,8 +178,8 @@ def generate_law(law):
         "",
         "",
     ]
-    fz = [f"f[{a}] = 0.0" for a in range(nf)]
-    jz = [f"jac[{a}, {b}] = 0.0" for a in range(nf) for b in range(nq)]
+    fz = [f"for a in range({nf}):", "    f[a] = 0.0"]
+    jz = [f"for a in range({nf}):", f"    for b in range({nq}):", "        jac[a, b] = 0.0"]
     lines += _function(
         f"{law.name}_force", args + ["f"],
         "Generalized forces of one contact into f (float64 or complex128).",

@@ -50,3 +50,19 @@ def test_bad_input_is_one_line_naming_the_parameter(argv, name, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
     assert err.startswith("fricstab: error:") and name in err
+
+
+def test_python_api_names_bad_parameters():
+    from fricstab.laws import ParameterError, evaluate
+    good = dict(dx=0.999, dy=0.0, Ri=0.5, Rj=0.5, kn=1.0, kt=0.3, mu=0.5, tx=0.0, ty=0.0)
+    f, jac = evaluate("charan", **good)
+    assert f.shape == (6,) and jac.shape == (6, 6) and f[0] > 0
+    for key, bad in (("Ri", -0.5), ("kt", 0.0), ("mu", -1.0), ("kn", float("inf")), ("tx", "x")):
+        with pytest.raises(ParameterError, match=key):
+            evaluate("charan", **{**good, key: bad})
+    with pytest.raises(ParameterError, match="missing argument 'mu'"):
+        evaluate("charan", **{k: v for k, v in good.items() if k != "mu"})
+    with pytest.raises(ParameterError, match="unknown argument 'mu'"):
+        evaluate("ishima", **good)
+    with pytest.raises(ParameterError, match="unknown law"):
+        evaluate("coulomb", **good)
