@@ -27,7 +27,7 @@ from fricstab.verify import case_inputs, sample_cases, verify_case  # noqa: E402
 def regime(law, case):
     """A label for the configuration: overlap decade and Coulomb kinks."""
     d = case.delta_over_R
-    size = "delta/R <= 1e-9" if d <= 1e-9 else ("delta/R <= 1e-5" if d <= 1e-5 else "delta/R > 1e-5")
+    size = "delta/R <= 1e-9" if d <= 1e-9 else ("1e-9 < delta/R <= 1e-5" if d <= 1e-5 else "delta/R > 1e-5")
     if not law.coulomb:
         return size
     if case.t_ratio == 0.0:
