@@ -494,7 +494,6 @@ def central_error_model(law, args, jac):
     a = dict(zip(law.inputs, args))
     size = math.hypot(a["dx"], a["dy"]) if law.kind == "pair" else a["y"]
     delta = _overlap(law, a)
-    sd = math.sqrt(delta)
     tn = math.sqrt(sum(a[h] ** 2 for h in law.history))
     curve = 1.0 / (24 * delta * delta)
     tstar = None

@@ -133,7 +133,7 @@ def _body(exprs, targets):
 def _function(name, args, doc, exprs, targets, law, zero_lines):
     body, used = _body(exprs, targets)
     pro = _prologue(law, used)
-    out = [f"@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
+    out = ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
     for line in pro:
         if line.strip() == "__ZERO__":
             out += ["    " * 2 + z for z in zero_lines]

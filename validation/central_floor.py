@@ -10,7 +10,6 @@ and complex-step errors of the same cases.  Writes ``central_floor.md``.
 """
 
 import argparse
-import math
 import sys
 from collections import defaultdict
 from pathlib import Path

@@ -742,7 +742,7 @@ def check_charan():
     # ---- SM Eqs. 45-61 (assembly), 3 disks + wall under disk 1 ----------------------
     S = CharanSystem()
     SP = [S.point() for _ in range(NPTS)]
-    X, Y, TH = (0, 1), (0, 1), 2
+
     rc = lambda k, a: 3 * k + a            # column of r_k^alpha (k = 0,1,2 for disks 1,2,3)
     tc = lambda k: 3 * k + 2              # column of theta_k
     nb = ((1, "D12", "E12"), (2, "D13", "E13"))    # neighbours of disk 1

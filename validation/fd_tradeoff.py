@@ -541,7 +541,7 @@ def write_md(results, path, png, args, runtime):
         f"{ch['scipy']['cratio']:.0f}x, {ch['scipy_adaptive']['cratio']:.0f}x and "
         f"{ch['complex']['cratio']:.1f}x.",
         "",
-        f"At the hard configuration (delta/R = 1e-9, |t|/t* = 0.9) the overlap is 1e-9 R",
+        "At the hard configuration (delta/R = 1e-9, |t|/t* = 0.9) the overlap is 1e-9 R",
         "while the centre offset |d| is ~2 R, so steps below the last bit of the offset",
         f"(dx, dy), h/L < {hmin:.0e} for charan, cannot be taken: the forward-difference curve is",
         f"cut off before its optimum near eps^(1/2) and stops at {hc['forward']['err']:.1e}.  Central",
