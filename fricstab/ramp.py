@@ -15,10 +15,12 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from fricstab.chain import forces_and_jacobian, initial_state, mass_vector
 from fricstab.quasistatic import relax_newton
-from fricstab.spectrum import complex_pairs, decompose, growth_rate, pair_indicator
+from fricstab.spectrum import (complex_pairs, decompose, growth_rate, pair_indicator,
+                               tracking_radius)
 
 __all__ = ["Event", "RampResult", "locate_event", "run_ramp"]
 
@@ -32,7 +34,9 @@ class Event:
     fx_lo: float
     fx_hi: float
     pair_center: float  # real part of the coalescing pair (sim units)
+    radius: float       # tracking radius of the pair (see pair_indicator)
     bisections: int
+    located: bool = True  # False: no sign change of D across the step (see run_ramp)
 
 
 @dataclass
@@ -57,43 +61,57 @@ def _equilibrium(scene, state, fx):
     return res.state, res.residual
 
 
-def _indicator(scene, state, fx, center, mass):
+def _indicator(scene, state, fx, center, radius, mass):
     s, _ = _equilibrium(scene, state, fx)
     _, jac = forces_and_jacobian(scene.with_fx(fx), s)
-    return pair_indicator(decompose(jac, mass, vectors=False).eigenvalues, center)
+    return pair_indicator(decompose(jac, mass, vectors=False).eigenvalues, center, radius)
 
 
-def locate_event(scene, state_lo, fx_lo, fx_hi, center, tol=1e-6, max_iter=80):
+def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_iter=80):
     """Bisect the sign change of the pair indicator D in ``[fx_lo, fx_hi]``.
 
     ``state_lo`` is the equilibrium at ``fx_lo``; every trial is relaxed from
-    it.  Returns ``(fx_lo, fx_hi, center, iterations)``.
+    it.  ``center`` and ``radius`` identify the conjugate pair (see
+    :func:`fricstab.spectrum.pair_indicator`).  Returns ``(fx_lo, fx_hi,
+    center, iterations, located)``; ``located`` is False when D has the same
+    sign at both ends (two events within one step, or a pair that moved too
+    far to be tracked): refine the ramp step.
     """
     mass = mass_vector(scene)
-    d_lo, center = _indicator(scene, state_lo, fx_lo, center, mass)
+    d_lo, c_lo = _indicator(scene, state_lo, fx_lo, center, radius, mass)
+    d_hi, c_hi = _indicator(scene, state_lo, fx_hi, center, radius, mass)
+    if np.sign(d_lo) == np.sign(d_hi):
+        return fx_lo, fx_hi, center, 0, False
     it = 0
     while fx_hi - fx_lo > tol and it < max_iter:
         mid = 0.5 * (fx_lo + fx_hi)
-        d_mid, center = _indicator(scene, state_lo, mid, center, mass)
+        d_mid, c_mid = _indicator(scene, state_lo, mid, center, radius, mass)
+        if d_mid < 0:
+            center = c_mid  # follow the conjugate pair's real part
         if np.sign(d_mid) == np.sign(d_lo):
             fx_lo, d_lo = mid, d_mid
         else:
             fx_hi = mid
         it += 1
-    return fx_lo, fx_hi, center, it
+    return fx_lo, fx_hi, center, it, True
 
 
 def _match(prev, cur, scale):
-    """Pairs of ``cur`` with no partner in ``prev`` (by real part), and vice versa."""
-    new, gone = [], list(prev)
-    for w in cur:
-        if gone:
-            k = int(np.argmin([abs(w.real - g.real) for g in gone]))
-            if abs(w.real - gone[k].real) < scale:
-                gone.pop(k)
-                continue
-        new.append(w)
-    return new, gone
+    """Pairs of ``cur`` with no partner in ``prev``, and vice versa.
+
+    Optimal assignment (scipy's linear_sum_assignment) on the distance of the
+    upper eigenvalues in the complex plane; a matched distance above ``scale``
+    counts as a death and a birth.
+    """
+    if len(prev) == 0 or len(cur) == 0:
+        return list(cur), list(prev)
+    cost = np.abs(np.subtract.outer(np.asarray(prev), np.asarray(cur)))
+    rows, cols = linear_sum_assignment(cost)
+    ok = cost[rows, cols] <= scale
+    matched_prev, matched_cur = set(rows[ok]), set(cols[ok])
+    born = [w for j, w in enumerate(cur) if j not in matched_cur]
+    died = [w for i, w in enumerate(prev) if i not in matched_prev]
+    return born, died
 
 
 def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False):
@@ -120,11 +138,13 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False):
             # tenth of the spectral width per step.
             scale = 0.1 * (np.abs(spec.eigenvalues.real).max() + 1e-300)
             born, died = _match(prev_pairs, pairs, scale)
-            for kind, group in (("birth", born), ("death", died)):
+            for kind, group, where in (("birth", born, spec.eigenvalues),
+                                       ("death", died, eig[-2])):
                 for w in group:
-                    lo, hi, center, n_it = locate_event(scene, prev_state, grid[k - 1], fx,
-                                                        w.real, tol)
-                    events.append(Event(kind, 0.5 * (lo + hi), lo, hi, center, n_it))
+                    radius = tracking_radius(where, w.real)
+                    lo, hi, center, n_it, ok = locate_event(scene, prev_state, grid[k - 1], fx,
+                                                            w.real, radius, tol)
+                    events.append(Event(kind, 0.5 * (lo + hi), lo, hi, center, radius, n_it, ok))
         prev_pairs, prev_state = pairs, state
         if progress is not None:
             progress.update(1)

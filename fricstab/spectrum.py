@@ -22,7 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-__all__ = ["Spectrum", "complex_pairs", "decompose", "growth_rate", "pair_indicator"]
+__all__ = ["Spectrum", "complex_pairs", "decompose", "growth_rate", "pair_indicator",
+           "tracking_radius"]
 
 
 @dataclass(frozen=True)
@@ -65,15 +66,38 @@ def complex_pairs(eigenvalues):
     return w[np.argsort(w.real)]
 
 
-def pair_indicator(eigenvalues, center):
-    """``D = (lambda_1 - lambda_2)^2`` of the two eigenvalues nearest ``center``.
+def pair_indicator(eigenvalues, center, radius):
+    """``D = (lambda_1 - lambda_2)^2`` of the tracked pair, for bisection.
 
-    ``center`` is the (real) mean of the pair being tracked.  Returns D (real;
-    negative for a conjugate pair) and the pair's mean.
+    If a conjugate pair has its real part within ``radius`` of ``center``, it
+    is the tracked pair: ``D = -4 Im^2 < 0``.  Otherwise the pair is real and
+    ``D`` is the squared gap of the two real eigenvalues nearest ``center``
+    (> 0).  ``radius`` should be less than half the distance to any other
+    conjugate pair.  Returns D and the (updated) centre.
     """
-    idx = np.argsort(np.abs(eigenvalues - center))[:2]
-    l1, l2 = eigenvalues[idx]
-    return float(((l1 - l2) ** 2).real), float(((l1 + l2) / 2).real)
+    upper = eigenvalues[eigenvalues.imag > 0]
+    if upper.size:
+        k = int(np.argmin(np.abs(upper.real - center)))
+        if abs(upper[k].real - center) <= radius:
+            return float(-4.0 * upper[k].imag ** 2), float(upper[k].real)
+    reals = np.sort(eigenvalues[eigenvalues.imag == 0].real)
+    if reals.size < 2:
+        return np.inf, center
+    idx = np.sort(np.argsort(np.abs(reals - center))[:2])
+    return float((reals[idx[1]] - reals[idx[0]]) ** 2), center
+
+
+def tracking_radius(eigenvalues, center):
+    """Half the distance from ``center`` to the nearest other conjugate pair.
+
+    Capped at a tenth of the spectral width; used as the ``radius`` of
+    :func:`pair_indicator`.
+    """
+    width = float(np.abs(eigenvalues).max())
+    others = eigenvalues[(eigenvalues.imag > 0)].real
+    others = others[np.abs(others - center) > 1e-12 * width]
+    gap = np.abs(others - center).min() if others.size else np.inf
+    return min(0.5 * gap, 0.1 * width)
 
 
 def growth_rate(eigenvalues):
