@@ -8,6 +8,8 @@ Subcommands
     Prove the generated Jacobian blocks against complex-step, central and
     50-digit differences and a Taylor test (:mod:`fricstab.verify`), print a
     table and write a JSON list with one object per law.
+``fricstab chain ramp|jacobian ...``
+    The chain of disks of Charan et al. (:mod:`fricstab.chain_cli`).
 
 Bad input exits with status 2 and one line naming the parameter; no
 traceback reaches the user.
@@ -103,6 +105,8 @@ def _parser():
                    nargs=2, metavar=("LO", "HI"), default=None,
                    help="R_j/R_i range (default: 1 1.4)")
     v.add_argument("--no-progress", action="store_true", help="no progress bar")
+    from fricstab import chain_cli
+    chain_cli.add_parser(sub, _Parser, _positive_float)
     return p
 
 
@@ -196,6 +200,9 @@ def main(argv=None):
         ns = _parser().parse_args(argv)
         if ns.command == "laws":
             return _cmd_laws()
+        if ns.command == "chain":
+            from fricstab import chain_cli
+            return chain_cli.run(ns)
         return _cmd_verify(ns)
     except (UsageError, ParameterError) as exc:
         print(f"fricstab: error: {exc}", file=sys.stderr)

@@ -1,5 +1,7 @@
 """The chain scene of Charan et al.: equilibrium, Jacobian, export, bad input."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -107,3 +109,44 @@ def test_two_disks_have_two_distinct_contacts():
     assert res.converged
     f, jac = forces_and_jacobian(scene, res.state)
     assert np.abs(f).max() < 1e-12
+
+
+def test_chain_cli_ramp_and_jacobian(tmp_path, capsys):
+    import json
+
+    from fricstab.cli import main
+    out = tmp_path / "ramp"
+    assert main(["chain", "ramp", "--fx-max", "0.02", "--step", "2e-3", "--out", str(out),
+                 "--no-progress"]) == 0
+    doc = json.loads((out / "ramp.json").read_text())
+    data = np.load(out / "ramp.npz")
+    assert data["eigenvalues"].shape == (11, 30) and doc["events"]
+    assert all(e["fx_hi"] - e["fx_lo"] <= 1e-6 for e in doc["events"] if e["located"])
+    assert (out / "ramp.png").stat().st_size > 10000
+    assert not list(out.glob(".*.tmp"))
+    jout = tmp_path / "jac"
+    assert main(["chain", "jacobian", "--fx", "0.01", "--out", str(jout)]) == 0
+    assert np.load(jout / "jacobian.npy").shape == (30, 30)
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["--n", "1"], "n"), (["--fy", "0"], "fy"), (["--fy", "-2"], "fy"),
+    (["--step", "0"], "--step"), (["--scene", "/nonexistent.toml"], "scene file"),
+])
+def test_chain_cli_bad_input_is_one_line(argv, name, tmp_path, capsys):
+    from fricstab.cli import main
+    assert main(["chain", "ramp", *argv, "--out", str(tmp_path), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and name in err and "Traceback" not in err
+
+
+def test_atomic_write_leaves_nothing_on_failure(tmp_path):
+    from fricstab.chain_io import atomic_write
+
+    def broken(tmp):
+        Path(tmp).write_text("half")
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        atomic_write(tmp_path / "result.json", broken)
+    assert list(tmp_path.iterdir()) == []

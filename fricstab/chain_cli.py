@@ -1,0 +1,174 @@
+"""``fricstab chain ramp|jacobian``: the chain protocol from the command line.
+
+``fricstab chain ramp --fx-max 0.1 --step 1e-3 --out DIR [--scene FILE.toml]``
+    Quasistatic F_x ramp (Newton, history carried), spectra of M^-1 J and the
+    complex-pair events located by bisection; writes ``DIR/ramp.json``
+    (parameters, versions, events, timings), ``DIR/ramp.npz`` (fx,
+    eigenvalues, condition numbers, residuals, growth rates) and
+    ``DIR/ramp.png`` (real and imaginary parts against F_x, as Charan Fig. 2).
+``fricstab chain jacobian --fx F --out DIR``
+    Equilibrium at F (ramped from 0 in steps of ``--step``) and its Jacobian:
+    ``DIR/state.npz`` and ``DIR/jacobian.npy`` (see fricstab.chain_io).
+
+Every file is written atomically (a complete file or none).
+"""
+
+import json
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from fricstab import __version__
+from fricstab.chain import forces_and_jacobian, initial_state
+from fricstab.chain_io import atomic_write, export_state, load_scene
+from fricstab.laws import ParameterError
+from fricstab.quasistatic import relax_newton
+
+__all__ = ["add_parser", "run"]
+
+PAPER_TIME_UNIT = "sqrt(m 2R / kn)"
+
+
+def add_parser(sub, parser_class, positive_float):
+    p = sub.add_parser("chain", help="chain of disks on a substrate (Charan et al.)")
+    csub = p.add_subparsers(dest="chain_command", metavar="CHAIN_COMMAND",
+                            parser_class=parser_class)
+    csub.required = True
+    for name, helptext in (("ramp", "quasistatic F_x ramp and complex-pair events"),
+                           ("jacobian", "equilibrium at --fx and its Jacobian")):
+        c = csub.add_parser(name, help=helptext)
+        c.add_argument("--scene", type=Path, default=None, help="TOML scene file")
+        c.add_argument("--n", type=int, default=None, help="number of disks (default 10)")
+        c.add_argument("--fy", type=float, default=None, help="pressing force F_y (default 0.1)")
+        c.add_argument("--mu", type=float, default=None, help="friction coefficient (default 10)")
+        c.add_argument("--inertia", type=float, default=None,
+                       help="moment of inertia (default m R^2 / 2)")
+        c.add_argument("--step", type=positive_float(), default=1e-3,
+                       help="ramp step in F_x (default 1e-3)")
+        c.add_argument("--out", type=Path, required=True, help="output directory")
+        c.add_argument("--no-progress", action="store_true", help="no progress bar")
+        if name == "ramp":
+            c.add_argument("--fx-max", type=positive_float(), default=0.1,
+                           help="largest F_x (default 0.1)")
+            c.add_argument("--tol", type=positive_float(), default=1e-6,
+                           help="bisection tolerance in F_x (default 1e-6)")
+        else:
+            c.add_argument("--fx", type=float, required=True, help="F_x of the equilibrium")
+    return p
+
+
+def _scene(ns):
+    return load_scene(ns.scene, n=ns.n, fy=ns.fy, mu=ns.mu, inertia=ns.inertia)
+
+
+def _meta(scene, ns, seconds):
+    import numba
+    import scipy
+    return {
+        "scene": {k: getattr(scene, k) for k in ("n", "radius", "mass", "kn", "kt", "mu", "fy",
+                                                  "inertia")},
+        "paper_time_unit": PAPER_TIME_UNIT,
+        "command": " ".join(sys.argv),
+        "seconds": round(seconds, 3),
+        "versions": {"fricstab": __version__, "numpy": np.__version__,
+                     "scipy": scipy.__version__, "numba": numba.__version__,
+                     "python": platform.python_version()},
+    }
+
+
+def _prepare_out(path):
+    path = path.expanduser()
+    if path.exists() and not path.is_dir():
+        raise ParameterError(f"--out: {path} exists and is not a directory")
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _ramp(ns):
+    from tqdm import tqdm
+
+    from fricstab.ramp import run_ramp
+
+    scene = _scene(ns)
+    out = _prepare_out(ns.out)
+    steps = int(round(ns.fx_max / ns.step)) + 1
+    with tqdm(total=steps, desc="ramp", unit="step", disable=ns.no_progress or None,
+              file=sys.stderr) as bar:
+        res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar)
+    unit2 = scene.mass * 2 * scene.radius / scene.kn  # eigenvalues in paper units
+    events = [{"kind": e.kind, "fx": e.fx, "fx_lo": e.fx_lo, "fx_hi": e.fx_hi,
+               "located": e.located, "bisections": e.bisections,
+               "pair_real_part_paper_units": e.pair_center * unit2} for e in res.events]
+    doc = {"protocol": "quasistatic ramp, Newton relaxation from the previous step",
+           "fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol, "events": events,
+           "max_residual": float(res.residual.max()), **_meta(scene, ns, res.seconds)}
+
+    def npz(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez(fh, fx=res.fx, eigenvalues=res.eigenvalues, condition=res.condition,
+                     residual=res.residual, growth=res.growth, eigenvalue_unit=unit2)
+
+    atomic_write(out / "ramp.npz", npz)
+    atomic_write(out / "ramp.png", lambda tmp: _figure(res, events, unit2, tmp))
+    atomic_write(out / "ramp.json",
+                 lambda tmp: Path(tmp).write_text(json.dumps(doc, indent=2) + "\n"))
+    print(f"{len(events)} complex-pair events in F_x in [0, {ns.fx_max:g}] "
+          f"({res.seconds:.1f} s); max residual {res.residual.max():.1e}")
+    for e in events:
+        flag = "" if e["located"] else "  (not located: refine --step)"
+        print(f"  {e['kind']:5s} at F_x = {e['fx']:.7f} +- {0.5 * (e['fx_hi'] - e['fx_lo']):.1e}{flag}")
+    print(f"wrote {out}/ramp.json, ramp.npz, ramp.png")
+    return 0
+
+
+def _figure(res, events, unit2, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    w = res.eigenvalues * unit2
+    top.plot(res.fx, w.real, color="0.75", lw=0.6)
+    cplx = np.where(np.abs(w.imag) > 0, w.real, np.nan)
+    top.plot(res.fx, cplx, color="C3", lw=1.4)
+    bottom.plot(res.fx, np.where(w.imag > 0, w.imag, np.nan), color="C3", lw=1.4)
+    for e in events:
+        for ax in (top, bottom):
+            ax.axvline(e["fx"], color="C0" if e["kind"] == "birth" else "C2", lw=0.6, ls="--")
+    top.set_ylabel("Re eigenvalue of $M^{-1}J$ (paper units)")
+    bottom.set_ylabel("Im eigenvalue (paper units)")
+    bottom.set_xlabel("$F_x$")
+    top.set_title("Chain ramp: complex pairs (red); births blue, deaths green")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120, format="png")
+    plt.close(fig)
+
+
+def _jacobian(ns):
+    scene = _scene(ns)
+    out = _prepare_out(ns.out)
+    t0 = time.perf_counter()
+    state = relax_newton(scene, initial_state(scene)).state
+    n_steps = max(1, int(np.ceil(abs(ns.fx) / ns.step)))
+    for fx in np.linspace(0.0, ns.fx, n_steps + 1)[1:]:
+        res = relax_newton(scene.with_fx(fx), state)
+        if not res.converged:
+            print(f"fricstab: error: no equilibrium at F_x = {fx:.6g} "
+                  f"(residual {res.residual:.1e})", file=sys.stderr)
+            return 4
+        state = res.state
+    loaded = scene.with_fx(ns.fx)
+    f, jac = forces_and_jacobian(loaded, state)
+    export_state(loaded, state, jac, out)
+    print(f"equilibrium at F_x = {ns.fx:g}: max |F| = {np.abs(f).max():.1e} "
+          f"({time.perf_counter() - t0:.2f} s); wrote {out}/state.npz, jacobian.npy")
+    return 0
+
+
+def run(ns):
+    if ns.chain_command == "ramp":
+        return _ramp(ns)
+    return _jacobian(ns)
