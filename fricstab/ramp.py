@@ -53,21 +53,26 @@ class RampResult:
     seconds: float = 0.0
 
 
-def _equilibrium(scene, state, fx):
-    res = relax_newton(scene.with_fx(fx), state)
+def _newton(scene, state):
+    return relax_newton(scene, state)
+
+
+def _equilibrium(scene, state, fx, relax=_newton):
+    res = relax(scene.with_fx(fx), state)
     if not res.converged:
         raise RuntimeError(f"Newton did not converge at F_x = {fx:.9g} "
                            f"(residual {res.residual:.2e})")
     return res.state, res.residual
 
 
-def _indicator(scene, state, fx, center, radius, mass):
-    s, _ = _equilibrium(scene, state, fx)
+def _indicator(scene, state, fx, center, radius, mass, relax):
+    s, _ = _equilibrium(scene, state, fx, relax)
     _, jac = forces_and_jacobian(scene.with_fx(fx), s)
     return pair_indicator(decompose(jac, mass, vectors=False).eigenvalues, center, radius)
 
 
-def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_iter=80):
+def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_iter=80,
+                 relax=_newton):
     """Bisect the sign change of the pair indicator D in ``[fx_lo, fx_hi]``.
 
     ``state_lo`` is the equilibrium at ``fx_lo``; every trial is relaxed from
@@ -78,14 +83,14 @@ def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_it
     far to be tracked): refine the ramp step.
     """
     mass = mass_vector(scene)
-    d_lo, c_lo = _indicator(scene, state_lo, fx_lo, center, radius, mass)
-    d_hi, c_hi = _indicator(scene, state_lo, fx_hi, center, radius, mass)
+    d_lo, c_lo = _indicator(scene, state_lo, fx_lo, center, radius, mass, relax)
+    d_hi, c_hi = _indicator(scene, state_lo, fx_hi, center, radius, mass, relax)
     if np.sign(d_lo) == np.sign(d_hi):
         return fx_lo, fx_hi, center, 0, False
     it = 0
     while fx_hi - fx_lo > tol and it < max_iter:
         mid = 0.5 * (fx_lo + fx_hi)
-        d_mid, c_mid = _indicator(scene, state_lo, mid, center, radius, mass)
+        d_mid, c_mid = _indicator(scene, state_lo, mid, center, radius, mass, relax)
         if d_mid < 0:
             center = c_mid  # follow the conjugate pair's real part
         if np.sign(d_mid) == np.sign(d_lo):
@@ -114,16 +119,24 @@ def _match(prev, cur, scale):
     return born, died
 
 
-def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False):
-    """Ramp F_x from 0 to ``fx_max`` in ``step`` increments; locate every event."""
+def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, relax=_newton,
+             locate=True):
+    """Ramp F_x from 0 to ``fx_max`` in ``step`` increments; locate every event.
+
+    ``relax(scene, state)`` returns an object with ``state``, ``residual`` and
+    ``converged`` (default: Newton; :func:`fricstab.dynamics.relax_damped`
+    gives the paper's damped protocol).  With ``locate=False`` events are
+    reported at the step resolution only (``fx_lo``, ``fx_hi`` the step ends,
+    ``located`` False).
+    """
     t0 = time.perf_counter()
     mass = mass_vector(scene)
-    state, _ = _equilibrium(scene, initial_state(scene), 0.0)
+    state, _ = _equilibrium(scene, initial_state(scene), 0.0, relax)
     grid = np.round(np.arange(0.0, fx_max + 0.5 * step, step), 12)
     eig, cond, resid, growth, states, events = [], [], [], [], [], []
     prev_pairs, prev_state = np.array([]), state
     for k, fx in enumerate(grid):
-        state, res = _equilibrium(scene, state, fx)
+        state, res = _equilibrium(scene, state, fx, relax)
         _, jac = forces_and_jacobian(scene.with_fx(fx), state)
         spec = decompose(jac, mass)
         eig.append(spec.eigenvalues)
@@ -142,8 +155,12 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False):
                                        ("death", died, eig[-2])):
                 for w in group:
                     radius = tracking_radius(where, w.real)
-                    lo, hi, center, n_it, ok = locate_event(scene, prev_state, grid[k - 1], fx,
-                                                            w.real, radius, tol)
+                    if locate:
+                        lo, hi, center, n_it, ok = locate_event(
+                            scene, prev_state, grid[k - 1], fx, w.real, radius, tol,
+                            relax=relax)
+                    else:
+                        lo, hi, center, n_it, ok = grid[k - 1], fx, w.real, 0, False
                     events.append(Event(kind, 0.5 * (lo + hi), lo, hi, center, radius, n_it, ok))
         prev_pairs, prev_state = pairs, state
         if progress is not None:
