@@ -27,6 +27,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from fricstab._numba import kernel_jit
+from fricstab._numerics import overlap_correction
 from fricstab.generated.charan import charan_force_jacobian, charan_increment
 from fricstab.generated.charan_wall import charan_wall_force_jacobian
 from fricstab.laws import ParameterError
@@ -185,7 +186,12 @@ def forces_and_jacobian(scene, state):
 
 @kernel_jit
 def _advance(q, dq, t_pair, t_wall, R, kn, kt, mu, period):
-    """t += A(q) dq by the increment rule, then rescale onto the Coulomb circle."""
+    """t += A(q) dq by the increment rule, then rescale onto the Coulomb circle.
+
+    The increment matrix A is taken at the configuration before the step; the
+    Coulomb limit and contact loss at the configuration after it (q + dq),
+    so that |t| <= t* holds for the state the step produces.
+    """
     n = q.shape[0]
     a = np.empty((2, 6))
     for i in range(n):
@@ -200,7 +206,10 @@ def _advance(q, dq, t_pair, t_wall, R, kn, kt, mu, period):
             for c in range(3):
                 s += a[r, c] * dq[i, c] + a[r, 3 + c] * dq[j, c]
             t_pair[i, r] += s
-        delta = 2.0 * R - math.sqrt(dx * dx + dy * dy)
+        nx = dx + dq[i, 0] - dq[j, 0]
+        ny = dy + dq[i, 1] - dq[j, 1]
+        naive = 2.0 * R - math.sqrt(nx * nx + ny * ny)
+        delta = naive + overlap_correction(nx, ny, R, R, naive)
         tn = math.sqrt(t_pair[i, 0] ** 2 + t_pair[i, 1] ** 2)
         if delta <= 0.0:
             t_pair[i, 0] = 0.0  # contact lost: history forgotten
@@ -211,7 +220,7 @@ def _advance(q, dq, t_pair, t_wall, R, kn, kt, mu, period):
             t_pair[i, 1] *= scale
     for i in range(n):
         t_wall[i] += dq[i, 0] + R * dq[i, 2]
-        delta = R - q[i, 1]
+        delta = R - (q[i, 1] + dq[i, 1])
         tstar = mu * kn / kt * delta
         if delta <= 0.0:
             t_wall[i] = 0.0
