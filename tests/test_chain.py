@@ -150,3 +150,16 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
     with pytest.raises(KeyboardInterrupt):
         atomic_write(tmp_path / "result.json", broken)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_transverse_mode_frequency(rest):
+    from fricstab.modes import transverse_mode
+    scene, state = rest
+    mode = transverse_mode(scene, state)
+    # At F_x = 0 the y modes are uncoupled (neighbours only touch): all have
+    # omega = sqrt(1.5 kn delta^{1/2} / m) = 0.235075 in paper units.
+    assert mode.y_fraction == pytest.approx(1.0, abs=1e-12)
+    assert abs(mode.omega - 0.235) < 1e-3
+    loaded = relax_newton(scene.with_fx(0.01), state).state
+    mode = transverse_mode(scene.with_fx(0.01), loaded)
+    assert mode.y_fraction > 0.9 and abs(mode.omega - 0.235) < 5e-3
