@@ -125,6 +125,16 @@ def scaled(scene, jac):
 
 
 @kernel_jit
+def _ring_separation(q, i, period):
+    """Neighbour j = i+1 mod N and r_i - r_j, the image shifted for the wrap."""
+    j = (i + 1) % q.shape[0]
+    dx = q[i, 0] - q[j, 0]
+    if j == 0:
+        dx -= period
+    return j, dx, q[i, 1] - q[j, 1]
+
+
+@kernel_jit
 def _assemble(q, t_pair, t_wall, R, kn, kt, mu, fy, fx, period, forces, jac, want_jac):
     n = q.shape[0]
     for i in range(n):
@@ -139,11 +149,7 @@ def _assemble(q, t_pair, t_wall, R, kn, kt, mu, fy, fx, period, forces, jac, wan
     fw = np.empty(3)
     bw = np.empty((3, 3))
     for i in range(n):
-        j = (i + 1) % n
-        dx = q[i, 0] - q[j, 0]
-        if j == 0:
-            dx -= period
-        dy = q[i, 1] - q[j, 1]
+        j, dx, dy = _ring_separation(q, i, period)
         charan_force_jacobian(dx, dy, R, R, kn, kt, mu, t_pair[i, 0], t_pair[i, 1], f, b)
         for a in range(3):
             forces[i, a] += f[a]
@@ -195,11 +201,7 @@ def _advance(q, dq, t_pair, t_wall, R, kn, kt, mu, period):
     n = q.shape[0]
     a = np.empty((2, 6))
     for i in range(n):
-        j = (i + 1) % n
-        dx = q[i, 0] - q[j, 0]
-        if j == 0:
-            dx -= period
-        dy = q[i, 1] - q[j, 1]
+        j, dx, dy = _ring_separation(q, i, period)
         charan_increment(dx, dy, R, R, a)
         for r in range(2):
             s = 0.0
