@@ -343,9 +343,9 @@ def taylor_slope(law, args, inc, direction):
     compiled block is what the complex-step check bounds.  ``direction`` is
     dq in units of each column's length scale.
 
-    Returns the slope fitted over the steps of :data:`TAYLOR_STEPS` whose
-    remainder exceeds :data:`TAYLOR_RESOLUTION` (None when fewer than three
-    do: F is linear along dq to that resolution) and the remainders, each
+    Returns the slope fitted over the (up to four) smallest steps of
+    :data:`TAYLOR_STEPS` whose remainder exceeds :data:`TAYLOR_RESOLUTION`
+    (None when fewer than three do: F is linear along dq to that resolution) and the remainders, each
     scaled by its row's largest Jacobian entry times the direction's length.
     """
     fn = _mp_function(law, "force")
@@ -391,8 +391,11 @@ def taylor_slope(law, args, inc, direction):
         # F is linear along dq to that resolution (a rigid translation, or a
         # direction whose active components are tiny): no slope to fit.
         return None, errs
+    # Taylor's theorem holds as h -> 0: fit the four smallest resolved steps
+    # (larger ones may cross a kink, |t| = t*, close to the base point).
     steps = np.array(TAYLOR_STEPS)
-    slope = np.polyfit(np.log(steps[ok]), np.log(errs[ok]), 1)[0]
+    use = np.flatnonzero(ok)[-4:]
+    slope = np.polyfit(np.log(steps[use]), np.log(errs[use]), 1)[0]
     return float(slope), errs
 
 
