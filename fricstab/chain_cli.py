@@ -9,6 +9,10 @@
 ``fricstab chain jacobian --fx F --out DIR``
     Equilibrium at F (ramped from 0 in steps of ``--step``) and its Jacobian:
     ``DIR/state.npz`` and ``DIR/jacobian.npy`` (see fricstab.chain_io).
+``fricstab chain dynamics --fx F --duration T --seed S --out DIR``
+    Newtonian dynamics from that equilibrium with a seeded perturbation:
+    ``dynamics.json`` (first Coulomb breach per disk), ``dynamics.npz``
+    (frames, M(t), centre of mass) and ``dynamics.png`` (Figs. 3, 4, 7).
 
 Every file is written atomically (a complete file or none).
 """
@@ -38,7 +42,8 @@ def add_parser(sub, parser_class, positive_float):
                             parser_class=parser_class)
     csub.required = True
     for name, helptext in (("ramp", "quasistatic F_x ramp and complex-pair events"),
-                           ("jacobian", "equilibrium at --fx and its Jacobian")):
+                           ("jacobian", "equilibrium at --fx and its Jacobian"),
+                           ("dynamics", "Newtonian dynamics from the equilibrium at --fx")):
         c = csub.add_parser(name, help=helptext)
         c.add_argument("--scene", type=Path, default=None, help="TOML scene file")
         c.add_argument("--n", type=int, default=None, help="number of disks (default 10)")
@@ -57,6 +62,14 @@ def add_parser(sub, parser_class, positive_float):
                            help="bisection tolerance in F_x (default 1e-6)")
         else:
             c.add_argument("--fx", type=float, required=True, help="F_x of the equilibrium")
+        if name == "dynamics":
+            c.add_argument("--duration", type=positive_float(), default=20000.0,
+                           help="duration in Charan's time unit sqrt(m 2R/kn) (default 20000)")
+            c.add_argument("--seed", type=int, default=0, help="seed of the perturbation")
+            c.add_argument("--amplitude", type=positive_float(), default=1e-9,
+                           help="perturbation, times the wall overlap (default 1e-9)")
+            c.add_argument("--disk", type=int, default=3,
+                           help="disk whose trajectory is drawn (default 3: the paper's 4th)")
     return p
 
 
@@ -147,19 +160,27 @@ def _figure(res, events, unit2, path):
     plt.close(fig)
 
 
+def _ramped_equilibrium(scene, fx, step):
+    """Newton ramp from 0 to fx in steps <= step; None if a step fails."""
+    state = relax_newton(scene, initial_state(scene)).state
+    n_steps = max(1, int(np.ceil(abs(fx) / step)))
+    for f in np.linspace(0.0, fx, n_steps + 1)[1:]:
+        res = relax_newton(scene.with_fx(f), state)
+        if not res.converged:
+            print(f"fricstab: error: no equilibrium at F_x = {f:.6g} "
+                  f"(residual {res.residual:.1e})", file=sys.stderr)
+            return None
+        state = res.state
+    return state
+
+
 def _jacobian(ns):
     scene = _scene(ns)
     out = _prepare_out(ns.out)
     t0 = time.perf_counter()
-    state = relax_newton(scene, initial_state(scene)).state
-    n_steps = max(1, int(np.ceil(abs(ns.fx) / ns.step)))
-    for fx in np.linspace(0.0, ns.fx, n_steps + 1)[1:]:
-        res = relax_newton(scene.with_fx(fx), state)
-        if not res.converged:
-            print(f"fricstab: error: no equilibrium at F_x = {fx:.6g} "
-                  f"(residual {res.residual:.1e})", file=sys.stderr)
-            return 4
-        state = res.state
+    state = _ramped_equilibrium(scene, ns.fx, ns.step)
+    if state is None:
+        return 4
     loaded = scene.with_fx(ns.fx)
     f, jac = forces_and_jacobian(loaded, state)
     export_state(loaded, state, jac, out)
@@ -168,7 +189,81 @@ def _jacobian(ns):
     return 0
 
 
+def _dynamics(ns):
+    from fricstab.dynamics import run_dynamics
+    from fricstab.observables import centre_of_mass, first_breach, msd, paper_time
+
+    scene = _scene(ns)
+    if not 0 <= ns.disk < scene.n:
+        raise ParameterError(f"--disk must be in [0, {scene.n - 1}], got {ns.disk}")
+    out = _prepare_out(ns.out)
+    state = _ramped_equilibrium(scene, ns.fx, ns.step)
+    if state is None:
+        return 4
+    loaded = scene.with_fx(ns.fx)
+    rng = np.random.default_rng(ns.seed)
+    start = state.copy()
+    start.q += ns.amplitude * (scene.fy / scene.kn) ** (2 / 3) * rng.standard_normal(state.q.shape)
+    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    res = run_dynamics(loaded, start, duration=ns.duration * unit, frames=4000)
+    t = paper_time(scene, res.times)
+    m = msd(res.positions)
+    com = centre_of_mass(res.positions)
+    tau, x_tau = first_breach(loaded, res.times, res.positions, res.wall_t)
+    doc = {"protocol": "Newton ramp to F_x, seeded perturbation, undamped velocity Verlet",
+           "fx": ns.fx, "seed": ns.seed, "amplitude": ns.amplitude,
+           "duration_paper_units": ns.duration, "time_unit": PAPER_TIME_UNIT,
+           "first_breach_paper_time": [None if np.isnan(v) else float(v)
+                                       for v in paper_time(scene, tau)],
+           "first_breach_x": [None if np.isnan(v) else float(v) for v in x_tau],
+           "final_msd": float(m[-1]), **_meta(scene, ns, res.seconds)}
+
+    def npz(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez(fh, time=t, positions=res.positions, wall_t=res.wall_t, msd=m,
+                     centre_of_mass=com, first_breach_time=paper_time(scene, tau),
+                     first_breach_x=x_tau)
+
+    atomic_write(out / "dynamics.npz", npz)
+    atomic_write(out / "dynamics.png",
+                 lambda tmp: _dynamics_figure(t, m, com, res.positions, ns.disk, tmp))
+    atomic_write(out / "dynamics.json",
+                 lambda tmp: Path(tmp).write_text(json.dumps(doc, indent=2) + "\n"))
+    print(f"dynamics at F_x = {ns.fx:g} for {ns.duration:g} time units ({res.seconds:.1f} s): "
+          f"final M(t) = {m[-1]:.3e}; disks at the Coulomb limit: {int(np.sum(~np.isnan(tau)))}"
+          f"/{scene.n}; wrote {out}/dynamics.json, dynamics.npz, dynamics.png")
+    return 0
+
+
+def _dynamics_figure(t, m, com, positions, disk, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    axes[0].semilogy(t[1:], m[1:])  # M(0) = 0
+    axes[0].set_xlabel("t (paper units)")
+    axes[0].set_ylabel("M(t)")
+    axes[0].set_title("mean-square displacement (Fig. 3)")
+    sc = axes[1].scatter(positions[:, disk, 0], positions[:, disk, 1], c=t, s=1, cmap="viridis")
+    fig.colorbar(sc, ax=axes[1], label="t (paper units)")
+    axes[1].set_xlabel("x")
+    axes[1].set_ylabel("y")
+    axes[1].set_title(f"trajectory of disk {disk} (Fig. 4)")
+    axes[2].plot(t, com[:, 0] - com[0, 0], label="x")
+    axes[2].plot(t, com[:, 1] - com[0, 1], label="y")
+    axes[2].set_xlabel("t (paper units)")
+    axes[2].set_ylabel("centre of mass - initial")
+    axes[2].legend()
+    axes[2].set_title("centre of mass (Fig. 7)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)
+
+
 def run(ns):
     if ns.chain_command == "ramp":
         return _ramp(ns)
+    if ns.chain_command == "dynamics":
+        return _dynamics(ns)
     return _jacobian(ns)

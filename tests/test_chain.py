@@ -70,9 +70,10 @@ def test_exported_jacobian_matches_finite_differences(rest, tmp_path):
     loaded = relax_newton(scene, state).state
     f, jac = forces_and_jacobian(scene, loaded)
     export_state(scene, loaded, jac, tmp_path)
-    data = np.load(tmp_path / "state.npz")
     exported = np.load(tmp_path / "jacobian.npy")
     n = scene.n
+    with np.load(tmp_path / "state.npz") as npz:
+        data = {k: npz[k] for k in ("q", "t", "contacts")}
     again = ChainState(data["q"].copy(), data["t"][:n].copy(), data["t"][n:, 0].copy())
     # Central differences with h = 1e-3 of the smallest overlap (here ~3e-6):
     # truncation (h/delta)^2 / 24 ~ 4e-8 of the softest contact's entries;
@@ -119,8 +120,8 @@ def test_chain_cli_ramp_and_jacobian(tmp_path, capsys):
     assert main(["chain", "ramp", "--fx-max", "0.02", "--step", "2e-3", "--out", str(out),
                  "--no-progress"]) == 0
     doc = json.loads((out / "ramp.json").read_text())
-    data = np.load(out / "ramp.npz")
-    assert data["eigenvalues"].shape == (11, 30) and doc["events"]
+    with np.load(out / "ramp.npz") as data:
+        assert data["eigenvalues"].shape == (11, 30) and doc["events"]
     assert all(e["fx_hi"] - e["fx_lo"] <= 1e-6 for e in doc["events"] if e["located"])
     assert (out / "ramp.png").stat().st_size > 10000
     assert not list(out.glob(".*.tmp"))
@@ -163,3 +164,22 @@ def test_transverse_mode_frequency(rest):
     loaded = relax_newton(scene.with_fx(0.01), state).state
     mode = transverse_mode(scene.with_fx(0.01), loaded)
     assert mode.y_fraction > 0.9 and abs(mode.omega - 0.235) < 5e-3
+
+
+def test_chain_cli_dynamics(tmp_path):
+    import json
+
+    from fricstab.cli import main
+    out = tmp_path / "dyn"
+    assert main(["chain", "dynamics", "--fx", "0.03", "--duration", "500", "--seed", "2",
+                 "--out", str(out), "--no-progress"]) == 0
+    doc = json.loads((out / "dynamics.json").read_text())
+    with np.load(out / "dynamics.npz") as npz:
+        msd = npz["msd"]
+    assert len(doc["first_breach_paper_time"]) == 10
+    assert msd[0] == 0 and np.all(np.isfinite(msd))
+    # Undamped dynamics from a perturbed equilibrium: the perturbation (1e-9
+    # of the wall overlap) grows, but over 500 time units stays far below R.
+    assert 0 < msd[-1] < 1e-6
+    assert main(["chain", "dynamics", "--fx", "0.03", "--disk", "12", "--out", str(out),
+                 "--no-progress"]) == 2
