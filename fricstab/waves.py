@@ -1,0 +1,125 @@
+"""Forward and backward waves of the chain (Charan Fig. 5, Eq. 9) over realizations.
+
+Definitions (paper units: length 2R, time sqrt(m 2R / kn)):
+
+* *breach* of disk i: the first time its wall contact reaches the Coulomb
+  limit |t_w| = t* (:func:`fricstab.observables.first_breach`), tau_i, at
+  position x_i(tau_i).  Forward wave (Eq. 9): ``x_i(tau_i) - x_0(tau_0) =
+  V1 (tau_i - tau_0)``, disk 0 being the pushed disk.
+* *sliding* of disk i: the first time its x has moved by more than
+  ``slide_threshold`` (default 0.02 of 2R) from the equilibrium, tau*_i, at
+  x*_i.  The paper does not define "sliding"; the threshold is a knob whose
+  effect is reported.  Backward wave: times measured from the first sliding
+  of the last disk, ``x*_i - x*_last = -V2 (tau*_i - tau*_last)``.
+* Fits, as the paper: times and positions are averaged over realizations
+  per disk, then fitted by least squares; the uncertainty is the standard
+  deviation of the same fit over bootstrap resamples of the realizations.
+* Sliding velocity of the centre of mass: slope of x_cm(t) over the last 30 %
+  of each run, mean and standard error over realizations.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fricstab.chain import initial_state
+from fricstab.dynamics import run_dynamics
+from fricstab.observables import centre_of_mass, first_breach, paper_time
+from fricstab.quasistatic import relax_newton
+
+__all__ = ["Realization", "WaveFit", "fit_waves", "ramped_equilibrium", "run_realization"]
+
+
+@dataclass(frozen=True)
+class Realization:
+    """Per-disk breach and sliding times (paper units) of one run."""
+
+    seed: int
+    tau: np.ndarray
+    x_tau: np.ndarray
+    tau_slide: np.ndarray
+    x_slide: np.ndarray
+    v_com: float
+
+
+@dataclass(frozen=True)
+class WaveFit:
+    """Wave speeds with bootstrap uncertainties (paper units)."""
+
+    v1: float
+    v1_err: float
+    v2: float
+    v2_err: float
+    v_com: float
+    v_com_err: float
+    realizations: int
+    breached_fraction: float
+
+
+def ramped_equilibrium(scene, fx, step=1e-3):
+    """Newton ramp from F_x = 0 to ``fx`` (history carried)."""
+    state = relax_newton(scene, initial_state(scene)).state
+    for f in np.linspace(0.0, fx, max(1, int(np.ceil(fx / step))) + 1)[1:]:
+        res = relax_newton(scene.with_fx(f), state)
+        if not res.converged:
+            raise RuntimeError(f"no equilibrium at F_x = {f:.6g}")
+        state = res.state
+    return state
+
+
+def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
+                    slide_threshold=0.02, frames=20000):
+    """One seeded run from ``equilibrium`` (scene carries F_x); see module doc."""
+    rng = np.random.default_rng(seed)
+    start = equilibrium.copy()
+    delta_w = (scene.fy / scene.kn) ** (2 / 3)
+    start.q += amplitude * delta_w * rng.standard_normal(start.q.shape)
+    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    res = run_dynamics(scene, start, duration=duration * unit, frames=frames)
+    t = paper_time(scene, res.times)
+    tau, x_tau = first_breach(scene, res.times, res.positions, res.wall_t)
+    length = 2 * scene.radius
+    moved = np.abs(res.positions[:, :, 0] - equilibrium.q[None, :, 0]) > slide_threshold * length
+    tau_s = np.full(scene.n, np.nan)
+    x_s = np.full(scene.n, np.nan)
+    for i in range(scene.n):
+        hit = np.flatnonzero(moved[:, i])
+        if hit.size:
+            tau_s[i], x_s[i] = t[hit[0]], res.positions[hit[0], i, 0]
+    late = t >= 0.7 * t[-1]
+    v = float(np.polyfit(t[late], centre_of_mass(res.positions)[late, 0], 1)[0]) / length
+    return Realization(seed, paper_time(scene, tau), x_tau / length, tau_s, x_s / length, v)
+
+
+def _fit(reals, pick):
+    """Slope of the realization-averaged (dt, dx) of the disks, see module doc."""
+    dts, dxs = zip(*(pick(r) for r in reals))
+    dt, dx = np.nanmean(dts, axis=0), np.nanmean(dxs, axis=0)
+    ok = np.isfinite(dt) & np.isfinite(dx)
+    if ok.sum() < 3 or np.ptp(dt[ok]) == 0:
+        return np.nan
+    return float(np.polyfit(dt[ok], dx[ok], 1)[0])
+
+
+def _forward(r):
+    return r.tau - r.tau[0], r.x_tau - r.x_tau[0]
+
+
+def _backward(r):
+    return r.tau_slide - r.tau_slide[-1], -(r.x_slide - r.x_slide[-1])
+
+
+def fit_waves(reals, n_boot=400, seed=0):
+    """V1, V2 and the centre-of-mass velocity over realizations."""
+    rng = np.random.default_rng(seed)
+    v1, v2 = _fit(reals, _forward), _fit(reals, _backward)
+    boot1, boot2 = [], []
+    for _ in range(n_boot):
+        sample = [reals[k] for k in rng.integers(0, len(reals), len(reals))]
+        boot1.append(_fit(sample, _forward))
+        boot2.append(_fit(sample, _backward))
+    vcom = np.array([r.v_com for r in reals])
+    breached = np.mean([np.isfinite(r.tau).mean() for r in reals])
+    return WaveFit(v1, float(np.nanstd(boot1)), v2, float(np.nanstd(boot2)),
+                   float(vcom.mean()), float(vcom.std(ddof=1) / np.sqrt(len(vcom))),
+                   len(reals), float(breached))
