@@ -68,14 +68,18 @@ def ramped_equilibrium(scene, fx, step=1e-3):
 
 
 def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
-                    slide_threshold=0.02, frames=20000):
-    """One seeded run from ``equilibrium`` (scene carries F_x); see module doc."""
+                    slide_threshold=0.02, frames=20000, dt=None):
+    """One seeded run from ``equilibrium`` (scene carries F_x); see module doc.
+
+    ``dt`` is the Verlet step in simulation units (default
+    :func:`fricstab.dynamics.run_dynamics`'s 0.02 / omega_wall).
+    """
     rng = np.random.default_rng(seed)
     start = equilibrium.copy()
     delta_w = (scene.fy / scene.kn) ** (2 / 3)
     start.q += amplitude * delta_w * rng.standard_normal(start.q.shape)
     unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
-    res = run_dynamics(scene, start, duration=duration * unit, frames=frames)
+    res = run_dynamics(scene, start, dt=dt, duration=duration * unit, frames=frames)
     t = paper_time(scene, res.times)
     tau, x_tau = first_breach(scene, res.times, res.positions, res.wall_t)
     length = 2 * scene.radius
