@@ -43,7 +43,8 @@ def add_parser(sub, parser_class, positive_float):
     csub.required = True
     for name, helptext in (("ramp", "quasistatic F_x ramp and complex-pair events"),
                            ("jacobian", "equilibrium at --fx and its Jacobian"),
-                           ("dynamics", "Newtonian dynamics from the equilibrium at --fx")):
+                           ("dynamics", "Newtonian dynamics from the equilibrium at --fx"),
+                           ("waves", "forward and backward waves over realizations")):
         c = csub.add_parser(name, help=helptext)
         c.add_argument("--scene", type=Path, default=None, help="TOML scene file")
         c.add_argument("--n", type=int, default=None, help="number of disks (default 10)")
@@ -60,6 +61,15 @@ def add_parser(sub, parser_class, positive_float):
                            help="largest F_x (default 0.1)")
             c.add_argument("--tol", type=positive_float(), default=1e-6,
                            help="bisection tolerance in F_x (default 1e-6)")
+        elif name == "waves":
+            c.add_argument("--fx", type=positive_float(), nargs="+", default=[0.083, 0.087, 0.090],
+                           help="F_x values (default: the paper's 0.083 0.087 0.090)")
+            c.add_argument("--realizations", type=int, default=25,
+                           help="seeded realizations per F_x (default 25)")
+            c.add_argument("--duration", type=positive_float(), default=25000.0,
+                           help="duration in Charan's time unit (default 25000)")
+            c.add_argument("--slide-threshold", type=positive_float(), default=0.02,
+                           help="displacement (2R) that counts as sliding (default 0.02)")
         else:
             c.add_argument("--fx", type=float, required=True, help="F_x of the equilibrium")
         if name == "dynamics":
@@ -210,12 +220,16 @@ def _dynamics(ns):
     m = msd(res.positions)
     com = centre_of_mass(res.positions)
     tau, x_tau = first_breach(loaded, res.times, res.positions, res.wall_t)
+    from fricstab.waves import first_slide
+    tau_s, x_s = first_slide(scene, t, res.positions, state.q)
     doc = {"protocol": "Newton ramp to F_x, seeded perturbation, undamped velocity Verlet",
            "fx": ns.fx, "seed": ns.seed, "amplitude": ns.amplitude,
            "duration_paper_units": ns.duration, "time_unit": PAPER_TIME_UNIT,
            "first_breach_paper_time": [None if np.isnan(v) else float(v)
                                        for v in paper_time(scene, tau)],
            "first_breach_x": [None if np.isnan(v) else float(v) for v in x_tau],
+           "first_slide_paper_time": [None if np.isnan(v) else float(v) for v in tau_s],
+           "slide_threshold_2R": 0.02,
            "final_msd": float(m[-1]), **_meta(scene, ns, res.seconds)}
 
     def npz(tmp):
@@ -261,7 +275,74 @@ def _dynamics_figure(t, m, com, positions, disk, path):
     plt.close(fig)
 
 
+def _waves(ns):
+    from tqdm import tqdm
+
+    from fricstab.modes import transverse_mode
+    from fricstab.spectrum import decompose
+    from fricstab.chain import mass_vector
+    from fricstab.waves import fit_waves, run_realization, wave_figure
+
+    if ns.realizations < 2:
+        raise ParameterError(f"--realizations must be >= 2, got {ns.realizations}")
+    scene = _scene(ns)
+    out = _prepare_out(ns.out)
+    t0 = time.perf_counter()
+    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    results, all_reals, arrays = [], {}, {}
+    with tqdm(total=len(ns.fx) * ns.realizations, desc="waves", unit="run",
+              disable=ns.no_progress or None, file=sys.stderr) as bar:
+        for fx in ns.fx:
+            eq = _ramped_equilibrium(scene, fx, ns.step)
+            if eq is None:
+                return 4
+            sc = scene.with_fx(fx)
+            reals = []
+            for seed in range(ns.realizations):
+                reals.append(run_realization(sc, eq, seed, duration=ns.duration,
+                                             slide_threshold=ns.slide_threshold))
+                bar.update(1)
+            all_reals[fx] = reals
+            fit = fit_waves(reals)
+            _, jac = forces_and_jacobian(sc, eq)
+            w = decompose(jac, mass_vector(scene), vectors=False).eigenvalues
+            growth = float(np.abs(np.sqrt(w.astype(complex)).real).max()) * unit
+            mode = transverse_mode(sc, eq)
+            results.append({"fx": fx, "v1": fit.v1, "v1_err": fit.v1_err, "v2": fit.v2,
+                             "v2_err": fit.v2_err, "v_com": fit.v_com, "v_com_err": fit.v_com_err,
+                             "growth_rate": growth, "v1_over_growth": fit.v1 / growth,
+                             "v2_predicted_transverse": mode.speed,
+                             "transverse_omega": mode.omega,
+                             "transverse_wavelength": mode.wavelength,
+                             "breached_fraction": fit.breached_fraction})
+            for key in ("tau", "x_tau", "tau_slide", "x_slide"):
+                arrays[f"{key}_fx{fx:g}"] = np.array([getattr(r, key) for r in reals])
+    doc = {"realizations": ns.realizations, "seeds": f"0..{ns.realizations - 1}",
+           "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
+           "units": "length 2R, time " + PAPER_TIME_UNIT, "results": results}
+    if len(ns.fx) >= 2:
+        slope, intercept = np.polyfit(ns.fx, [r["v_com"] for r in results], 1)
+        doc["v_com_fit"] = {"intercept": float(intercept), "slope": float(slope)}
+    doc.update(_meta(scene, ns, time.perf_counter() - t0))
+
+    def npz(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+
+    atomic_write(out / "waves.npz", npz)
+    atomic_write(out / "waves.png", lambda tmp: wave_figure(all_reals, tmp))
+    atomic_write(out / "waves.json",
+                 lambda tmp: Path(tmp).write_text(json.dumps(doc, indent=2) + "\n"))
+    for r in results:
+        print(f"F_x = {r['fx']:g}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "
+              f"V2 = {r['v2']:.3f} +- {r['v2_err']:.3f}, v_cm = {r['v_com']:.2e}")
+    print(f"wrote {out}/waves.json, waves.npz, waves.png")
+    return 0
+
+
 def run(ns):
+    if ns.chain_command == "waves":
+        return _waves(ns)
     if ns.chain_command == "ramp":
         return _ramp(ns)
     if ns.chain_command == "dynamics":

@@ -458,16 +458,30 @@ def exact_reference_bound(kappa):
 def taylor_consistent(slope, errs, kappa):
     """Whether a Taylor test shows K to be the derivative of F.
 
-    Either the remainder falls with slope 2 (within [1.9, 2.1]), or it is no
+    Either the remainder falls at least as fast as h^2 (slope >= 1.9; along a
+    special direction the h^2 and h^3 terms can cancel and it falls faster,
+    while an error in K leaves a term linear in h, slope 1), or e(h)/h^2 stays
+    bounded down to the smallest resolved step (a kink crossed by the steps
+    changes its coefficient, not its order), or it is no
     larger than the rounding of the float64 block would make it,
     ``ROUNDING_ULPS eps kappa h`` (plus the 50-digit resolution): the case of a
     direction along which F is linear, or of a base point within rounding of
     the slip kink |t| = t*, where 50-digit arithmetic may put it on the other
     side of the kink than float64 does.
     """
-    if slope is not None and 1.9 <= slope <= 2.1:
+    if slope is not None and slope >= 1.9:
         return True
     steps = np.array(TAYLOR_STEPS)
+    resolved = np.flatnonzero(errs > TAYLOR_RESOLUTION)
+    if resolved.size >= 3:
+        # Bounded second-order remainder: e(h)/h^2 at the smallest resolved
+        # step at most 10x its largest value over the larger half of the
+        # steps.  A kink (t = 0, |t| = t*) within the step range changes the
+        # coefficient of h^2 by O(1); an error eps in K makes e/h^2 grow
+        # tenfold per decade of h, i.e. 100x or more across the range.
+        ratio = errs[resolved] / steps[resolved] ** 2
+        if ratio[-1] <= 10.0 * ratio[: len(ratio) // 2 + 1].max():
+            return True
     return bool(np.all(errs <= ROUNDING_ULPS * EPS * kappa * steps + TAYLOR_RESOLUTION))
 
 
@@ -573,7 +587,7 @@ def verify_law(name, cases, seed, progress=None, radius=0.5, kn=1.0):
                 worst[key] = {**asdict(case), "err": val,
                               "central_model": res["central_model"]}
         taylor_failed += not res["taylor_ok"]
-        if res["taylor_slope"] is None or not 1.9 <= res["taylor_slope"] <= 2.1:
+        if res["taylor_slope"] is None or res["taylor_slope"] < 1.9:
             linear += res["taylor_ok"]
         if res["taylor_slope"] is not None:
             slopes.append(res["taylor_slope"])

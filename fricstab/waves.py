@@ -27,7 +27,8 @@ from fricstab.dynamics import run_dynamics
 from fricstab.observables import centre_of_mass, first_breach, paper_time
 from fricstab.quasistatic import relax_newton
 
-__all__ = ["Realization", "WaveFit", "fit_waves", "ramped_equilibrium", "run_realization"]
+__all__ = ["Realization", "WaveFit", "first_slide", "fit_waves", "ramped_equilibrium",
+           "run_realization", "wave_figure"]
 
 
 @dataclass(frozen=True)
@@ -83,16 +84,49 @@ def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
     t = paper_time(scene, res.times)
     tau, x_tau = first_breach(scene, res.times, res.positions, res.wall_t)
     length = 2 * scene.radius
-    moved = np.abs(res.positions[:, :, 0] - equilibrium.q[None, :, 0]) > slide_threshold * length
-    tau_s = np.full(scene.n, np.nan)
-    x_s = np.full(scene.n, np.nan)
-    for i in range(scene.n):
-        hit = np.flatnonzero(moved[:, i])
-        if hit.size:
-            tau_s[i], x_s[i] = t[hit[0]], res.positions[hit[0], i, 0]
+    tau_s, x_s = first_slide(scene, t, res.positions, equilibrium.q, slide_threshold)
     late = t >= 0.7 * t[-1]
     v = float(np.polyfit(t[late], centre_of_mass(res.positions)[late, 0], 1)[0]) / length
     return Realization(seed, paper_time(scene, tau), x_tau / length, tau_s, x_s / length, v)
+
+
+def first_slide(scene, t, positions, q_eq, threshold=0.02):
+    """Per disk: (time, x) of the first frame with |x - x_eq| > threshold (2R)."""
+    moved = np.abs(positions[:, :, 0] - q_eq[None, :, 0]) > threshold * 2 * scene.radius
+    tau = np.full(scene.n, np.nan)
+    x = np.full(scene.n, np.nan)
+    for i in range(scene.n):
+        hit = np.flatnonzero(moved[:, i])
+        if hit.size:
+            tau[i], x[i] = t[hit[0]], positions[hit[0], i, 0]
+    return tau, x
+
+
+def wave_figure(all_reals, path):
+    """Charan Fig. 5: realization-averaged breach (upper) and sliding (lower) waves."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 8))
+    for fx, reals in all_reals.items():
+        dt = np.nanmean([r.tau - r.tau[0] for r in reals], axis=0)
+        dx = np.nanmean([r.x_tau - r.x_tau[0] for r in reals], axis=0)
+        top.plot(dt, dx, "o-", label=f"F_x = {fx}")
+        dts = np.nanmean([r.tau_slide - r.tau_slide[-1] for r in reals], axis=0)
+        dxs = np.nanmean([r.x_slide - r.x_slide[-1] for r in reals], axis=0)
+        bottom.plot(dts, dxs, "o-", label=f"F_x = {fx}")
+    top.set_xlabel("tau - tau_1 (paper units)")
+    top.set_ylabel("x(tau) - x_1 (2R)")
+    top.set_title("forward wave of Coulomb breaching (Fig. 5 upper)")
+    bottom.set_xlabel("tau* - tau*_last (paper units)")
+    bottom.set_ylabel("x* - x*_last (2R)")
+    bottom.set_title("backward wave of sliding (Fig. 5 lower)")
+    for ax in (top, bottom):
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)
 
 
 def _fit(reals, pick):

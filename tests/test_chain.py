@@ -183,3 +183,18 @@ def test_chain_cli_dynamics(tmp_path):
     assert 0 < msd[-1] < 1e-6
     assert main(["chain", "dynamics", "--fx", "0.03", "--disk", "12", "--out", str(out),
                  "--no-progress"]) == 2
+
+
+def test_chain_cli_waves(tmp_path):
+    import json
+
+    from fricstab.cli import main
+    out = tmp_path / "waves"
+    assert main(["chain", "waves", "--fx", "0.09", "--realizations", "2", "--duration", "12000",
+                 "--out", str(out), "--no-progress"]) == 0
+    doc = json.loads((out / "waves.json").read_text())
+    (res,) = doc["results"]
+    assert res["fx"] == 0.09 and res["growth_rate"] > 0 and np.isfinite(res["v1"])
+    with np.load(out / "waves.npz") as npz:
+        assert npz["tau_fx0.09"].shape == (2, 10)
+    assert (out / "waves.png").stat().st_size > 10000

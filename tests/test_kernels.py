@@ -18,11 +18,13 @@ Error models behind the tolerances
   within 10x of that floor.
 * Taylor test over h = 1e-3 .. 1e-8 L with F and K both evaluated in 50
   digits (the generated sources): the remainder is c2 h^2 + c3 h^3 + 1e-50;
-  the cubic term moves the fitted slope by ~c3/c2 1e-3 L, so the slope lies
-  in [1.9, 2.1] (a first-order error in K would give 1).  Where c2 vanishes
-  (F linear along dq) or the float64 base point lies within rounding of the
-  slip kink, the remainder must instead stay below the block's own rounding,
-  64 eps kappa h (taylor_consistent).
+  the cubic term moves the fitted slope by ~c3/c2 1e-3 L, so the slope is at
+  least 1.9 (higher where c2 vanishes along dq; a first-order error in K
+  would give 1).  Where the steps cross a kink (t = 0, |t| = t*) the
+  coefficient of h^2 changes but e/h^2 must stay bounded (within 10x); where
+  c2 vanishes (F linear along dq) or the float64 base point lies within
+  rounding of the slip kink, the remainder must stay below the block's own
+  rounding, 64 eps kappa h (taylor_consistent).
 """
 
 import itertools
@@ -282,3 +284,31 @@ def test_array_layer_matches_the_scalar_kernel(name):
             assert np.array_equal(blocks[c], jac)
     assert np.allclose(forces, expect, rtol=1e-15, atol=0)
     assert np.any(forces)
+
+
+@pytest.mark.parametrize("name", LAW_NAMES)
+def test_taylor_check_catches_a_wrong_jacobian(name, monkeypatch):
+    """Mutation test: K off by 1e-3 (relative) must fail taylor_consistent."""
+    import fricstab.verify as verify
+
+    original = verify._mp_function
+
+    def corrupted(law, which):
+        fn = original(law, which)
+        if which != "force_jacobian":
+            return fn
+
+        def wrapped(*args):
+            *inputs, f, jac = args
+            fn(*inputs, f, jac)
+            jac *= 1.001
+        return wrapped
+
+    monkeypatch.setattr(verify, "_mp_function", corrupted)
+    law = get_law(name)
+    case = Case(1e-3, 0.5, 0.7, 0.7 + math.pi / 2, 0.3, 2.0, 1.2)
+    args = case_inputs(law, case)
+    f, jac = generated_jacobian(law, args)
+    direction = np.linspace(-1.0, 1.0, len(law.coords)) + 0.1
+    slope, errs = taylor_slope(law, args, reference_increment(law, args), direction)
+    assert not taylor_consistent(slope, errs, cancellation_factor(law, args, jac))

@@ -27,7 +27,8 @@ import numpy as np  # noqa: E402
 from fricstab.chain import ChainScene, forces_and_jacobian, mass_vector  # noqa: E402
 from fricstab.modes import transverse_mode  # noqa: E402
 from fricstab.spectrum import decompose  # noqa: E402
-from fricstab.waves import fit_waves, ramped_equilibrium, run_realization  # noqa: E402
+from fricstab.waves import (fit_waves, ramped_equilibrium, run_realization,  # noqa: E402
+                            wave_figure)
 
 PAPER = {0.083: (0.0014, 0.00013), 0.087: (0.0022, 0.00015), 0.090: (0.0028, 8e-5)}
 PAPER_GROWTH = {0.083: 0.00024, 0.087: 0.00077, 0.090: 0.001}
@@ -118,34 +119,8 @@ def main(argv=None):
             lines.append(f"| {thr} | {fit.v2:.3f} +- {fit.v2_err:.3f} | {fit.v1:.5f} +- {fit.v1_err:.5f} |")
     lines += ["", "![waves](chain_waves.png)"]
     (HERE / "chain_waves.md").write_text("\n".join(lines) + "\n")
-    _figure(all_reals, HERE / "chain_waves.png")
+    wave_figure(all_reals, HERE / "chain_waves.png")
     print("\n".join(lines))
-
-
-def _figure(all_reals, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 8))
-    for fx, reals in all_reals.items():
-        dt = np.nanmean([r.tau - r.tau[0] for r in reals], axis=0)
-        dx = np.nanmean([r.x_tau - r.x_tau[0] for r in reals], axis=0)
-        top.plot(dt, dx, "o-", label=f"F_x = {fx}")
-        dts = np.nanmean([r.tau_slide - r.tau_slide[-1] for r in reals], axis=0)
-        dxs = np.nanmean([r.x_slide - r.x_slide[-1] for r in reals], axis=0)
-        bottom.plot(dts, dxs, "o-", label=f"F_x = {fx}")
-    top.set_xlabel("tau - tau_1 (paper units)")
-    top.set_ylabel("x(tau) - x_1 (2R)")
-    top.set_title("forward wave of Coulomb breaching (Fig. 5 upper)")
-    bottom.set_xlabel("tau* - tau*_last (paper units)")
-    bottom.set_ylabel("x* - x*_last (2R)")
-    bottom.set_title("backward wave of sliding (Fig. 5 lower)")
-    for ax in (top, bottom):
-        ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

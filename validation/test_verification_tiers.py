@@ -8,8 +8,8 @@ Quick tier (CI): 150 configurations per law.  Slow tier (``pytest -m slow``):
   (fricstab.verify.exact_reference_bound): ``*_unexplained_cases == 0``;
 * float64 central differences at the best step: 1e-6, except within 10x of
   the floor that the error model predicts (central_unexplained_cases == 0);
-* Taylor test: slope in [1.9, 2.1] or a remainder at the rounding level of
-  the block (taylor_failed_cases == 0);
+* Taylor test: slope >= 1.9 or a remainder at the rounding level of the
+  block (taylor_failed_cases == 0);
 * no NaN or inf anywhere.
 """
 
