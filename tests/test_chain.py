@@ -198,3 +198,14 @@ def test_chain_cli_waves(tmp_path):
     with np.load(out / "waves.npz") as npz:
         assert npz["tau_fx0.09"].shape == (2, 10)
     assert (out / "waves.png").stat().st_size > 10000
+
+
+def test_chain_cli_unknown_toml_key_is_one_line(tmp_path, capsys):
+    from fricstab.cli import main
+    scene = tmp_path / "scene.toml"
+    scene.write_text("[chain]\nn = 8\nfriction_coefficient = 3.0\n")
+    assert main(["chain", "ramp", "--scene", str(scene), "--out", str(tmp_path / "o"),
+                 "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "friction_coefficient" in err
+    assert not (tmp_path / "o" / "ramp.json").exists()
