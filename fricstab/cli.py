@@ -10,6 +10,8 @@ Subcommands
     table and write a JSON list with one object per law.
 ``fricstab chain ramp|jacobian ...``
     The chain of disks of Charan et al. (:mod:`fricstab.chain_cli`).
+``fricstab packing make|rigidity|dos ...``
+    Disk packings of Ishima et al.: rigidity and DOS (:mod:`fricstab.packing_cli`).
 
 Bad input exits with status 2 and one line naming the parameter; no
 traceback reaches the user.
@@ -105,8 +107,9 @@ def _parser():
                    nargs=2, metavar=("LO", "HI"), default=None,
                    help="R_j/R_i range (default: 1 1.4)")
     v.add_argument("--no-progress", action="store_true", help="no progress bar")
-    from fricstab import chain_cli
+    from fricstab import chain_cli, packing_cli
     chain_cli.add_parser(sub, _Parser, _positive_float)
+    packing_cli.add_parser(sub, _Parser, _positive_float)
     return p
 
 
@@ -203,6 +206,9 @@ def main(argv=None):
         if ns.command == "chain":
             from fricstab import chain_cli
             return chain_cli.run(ns)
+        if ns.command == "packing":
+            from fricstab import packing_cli
+            return packing_cli.run(ns, sys.argv[1:] if argv is None else argv)
         return _cmd_verify(ns)
     except (UsageError, ParameterError) as exc:
         print(f"fricstab: error: {exc}", file=sys.stderr)
