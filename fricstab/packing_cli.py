@@ -484,27 +484,33 @@ def _packing_figure(packing, net, force, rattler, path):
     plt.close(fig)
 
 
+def _setup(ns, keys, command, result_names):
+    """Parameters, output folder, packing and backbone shared by rigidity and dos."""
+    from fricstab.pack_system import backbone
+
+    params = _resolve(ns, MAKE_KEYS + keys, DEFAULT_KT[command])
+    _packing_source_checks(ns)
+    kts = params["kt"]
+    names = result_names(kts) + ([] if ns.packing else ["packing.npz"])
+    out = _prepare_out(_check_out(ns.out, names, ns.force))
+    packing, source = _obtain_packing(ns, params, out)
+    return params, kts, out, packing, source, backbone(packing, z_th=params["z_th"])
+
+
 # ------------------------------------------------------------------ rigidity
 
 def _rigidity(ns, argv):
     import scipy.sparse as sps
     from tqdm import tqdm
 
-    from fricstab.pack_system import backbone, ndof
+    from fricstab.pack_system import ndof
     from fricstab.rigidity import rigidity
     from fricstab.stepstrain import step_strain
 
     t0 = time.perf_counter()
-    params = _resolve(ns, MAKE_KEYS + ("kt", "dgamma", "z_th", "route"), DEFAULT_KT["rigidity"])
-    _packing_source_checks(ns)
-    kts = params["kt"]
-    names = ["rigidity.json", "rigidity.png"] + [_kt_name(k) for k in kts]
-    if ns.packing is None:
-        names.append("packing.npz")
-    out = _check_out(ns.out, names, ns.force)
-    out = _prepare_out(out)
-    packing, source = _obtain_packing(ns, params, out)
-    bb = backbone(packing, z_th=params["z_th"])
+    params, kts, out, packing, source, bb = _setup(
+        ns, ("kt", "dgamma", "z_th", "route"), "rigidity",
+        lambda kts: ["rigidity.json", "rigidity.png"] + [_kt_name(k) for k in kts])
     modes = ns.modes if ns.modes is not None else bb.n <= MODES_MAX_PARTICLES
     results, first = [], None
     with tqdm(kts, desc="rigidity", unit="kt", disable=ns.no_progress or None,
@@ -642,17 +648,13 @@ def _dos(ns, argv):
     from tqdm import tqdm
 
     from fricstab import dos as dosmod
-    from fricstab.pack_system import backbone, ndof
+    from fricstab.pack_system import ndof
     from fricstab.rigidity import linear_response
 
     t0 = time.perf_counter()
-    params = _resolve(ns, MAKE_KEYS + ("kt", "z_th", "route", "bins"), DEFAULT_KT["dos"])
-    _packing_source_checks(ns)
-    kts = params["kt"]
-    names = ["dos.json", "dos.npz", "dos.png"] + ([] if ns.packing else ["packing.npz"])
-    out = _prepare_out(_check_out(ns.out, names, ns.force))
-    packing, source = _obtain_packing(ns, params, out)
-    bb = backbone(packing, z_th=params["z_th"])
+    params, kts, out, packing, source, bb = _setup(
+        ns, ("kt", "z_th", "route", "bins"), "dos",
+        lambda kts: ["dos.json", "dos.npz", "dos.png"])
     spectra = []
     with tqdm(kts, desc="dos", unit="kt", disable=ns.no_progress or None,
               file=sys.stderr) as bar:

@@ -16,11 +16,12 @@ step-strain truncation error O(dgamma).
 Results: the nonaffine displacements (Eqs. 10-11), the stress (Eq. 14) and
 ``g = (sigma(dgamma) - sigma(0)) / dgamma`` (Eq. 16).
 
-Error model of g (stated with each result): truncation ``|g(+dg) - g(-dg)| / 2``
-(the O(dgamma) term, measured by one extra step of opposite sign) plus
-round-off ``2 eps_sigma / dgamma`` with ``eps_sigma = 4 eps sum_c |f^x_c y_c| / L^2
-+ f_tol sum_c |y_c| / L^2`` (summation error of Eq. 14 and the stress of the
-residual forces).
+Error model of g (stated with each result): truncation ``|g(+dg) - g(-dg)|``,
+twice the O(dgamma) term that one extra step of opposite sign measures
+(``g(+-dg) = G +- c dg + O(dg^2)``; the factor 2 covers the O(dg^2) remainder
+while it is below the first-order term), plus round-off ``2 eps_sigma / dgamma``
+with ``eps_sigma = 4 eps sum_c |f^x_c y_c| / L^2 + f_tol sum_c |y_c| / L^2``
+(summation error of Eq. 14 and the stress of the residual forces).
 """
 
 import time
@@ -138,7 +139,7 @@ def step_strain(bb, kt, dgamma=1e-6, f_tol=1e-14):
     g_f = (s_f - sigma0) / dgamma
     g_b = (sigma0 - s_b) / dgamma
     eps_sigma = 4 * np.finfo(float).eps * abs0 + f_tol * np.abs(ref.net.sep[:, 1]).sum() / bb.box**2
-    error = abs(g_f - g_b) / 2 + 2 * eps_sigma / dgamma
+    error = abs(g_f - g_b) + 2 * eps_sigma / dgamma
     nonaffine = np.zeros((bb.n, k))
     nonaffine[:, :2] = (fwd.pos - ref.pos) / dgamma
     nonaffine[:, 0] -= ref.pos[:, 1]

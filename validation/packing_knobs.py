@@ -1,7 +1,7 @@
 """Speed/accuracy trade of the packing knobs, measured on G (Ishima protocol).
 
 1. Compression increment ``dphi`` (paper 1e-4; default 1e-3): cost of
-   ``make_packing`` and G at kT/kN = 1e-4 and 1 (N = 256, phi = 0.90, three
+   ``make_packing`` and G at kT/kN = 1e-4 and 1 (N = 256, phi = 0.90, eight
    seeds).  Different dphi give different packings, so the comparison is of
    ensemble means against the sample-to-sample spread.
 2. Final force threshold ``f_tol`` (paper 1e-14) and intermediate threshold
@@ -41,7 +41,7 @@ def main(argv=None):
     ns = ap.parse_args(argv)
     t_all = time.perf_counter()
     make_packing(16, 0.85, 0)  # compile
-    seeds = (0, 1, 2)
+    seeds = tuple(range(8))
     lines = ["# Packings: the speed/accuracy trade of each knob", "",
              f"`python validation/packing_knobs.py{' --quick' if ns.quick else ''}` "
              f"({platform.machine()}, Python {platform.python_version()}, "
@@ -73,8 +73,8 @@ def main(argv=None):
               "| f_tol | f_tol_compress | make_packing s | max |F| | G(1e-4) rel. to tightest | "
               "G(1) rel. to tightest |", "|---|---|---|---|---|---|"]
     rows = []
-    for f_tol, f_c in ((1e-14, 1e-12), (1e-14, 1e-10), (1e-14, 1e-8), (1e-12, 1e-10),
-                       (1e-10, 1e-10), (1e-8, 1e-8)):
+    for f_tol, f_c in ((1e-14, 1e-12), (1e-14, 1e-10), (1e-14, 1e-8), (1e-14, 1e-6),
+                       (1e-14, 1e-4), (1e-12, 1e-6), (1e-10, 1e-6), (1e-8, 1e-6)):
         t0 = time.perf_counter()
         p = make_packing(N, PHI, 0, f_tol=f_tol, f_tol_compress=f_c)
         sec = time.perf_counter() - t0
@@ -83,9 +83,10 @@ def main(argv=None):
     for f_tol, f_c, sec, mf, a, b in rows:
         lines.append(f"| {f_tol:g} | {f_c:g} | {sec:.1f} | {mf:.1e} | {a / ref[4] - 1:+.1e} | "
                      f"{b / ref[5] - 1:+.1e} |")
-    lines += ["", "Reading: the intermediate threshold changes the compression path (a "
-              "different packing, hence O(spread) changes of G); the final threshold changes "
-              "G by about the force residual over the stiffness (a linear effect).", "",
+    lines += ["", "Reading: while the compression path stays in the same basin, both thresholds "
+              "move G only by about the force residual over the stiffness (a linear effect); a "
+              "threshold loose enough to change the path gives a different packing, and G then "
+              "changes by the sample-to-sample spread of the table above.", "",
               f"Total wall time: {time.perf_counter() - t_all:.0f} s."]
     (HERE / "packing_knobs.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
