@@ -154,16 +154,10 @@ def affine_rates(net, radius, kt):
 
 
 def contact_forces(net, radius, kt):
-    """Force on particle i from j, ``f_c`` (M, 2)."""
-    f, _ = _pair_forces(net, radius, kt)
-    return f
-
-
-def _pair_forces(net, radius, kt):
-    k = ndof(kt)
+    """Force on particle i from j, ``f_c`` (M, 2), from the verified force kernel."""
     forces = np.zeros((net.m, 2))
-    one = np.zeros(2 * k)
-    for c in range(net.m):  # small M loop: only used on final states
+    one = np.zeros(2 * ndof(kt))
+    for c in range(net.m):  # a Python loop over contacts: used on final states only
         i, j = net.pairs[c]
         if kt > 0:
             ishima_force(net.sep[c, 0], net.sep[c, 1], radius[i], radius[j], KN, kt,
@@ -171,7 +165,7 @@ def _pair_forces(net, radius, kt):
         else:
             hertz_force(net.sep[c, 0], net.sep[c, 1], radius[i], radius[j], KN, one)
         forces[c] = one[:2]
-    return forces, None
+    return forces
 
 
 def shear_stress(net, radius, kt, box):

@@ -115,7 +115,18 @@ def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
     allom = allom[allom > 0]
     edges = log_bins(allom.min() / 1.5, allom.max() * 1.5, 60)
     mid = np.sqrt(edges[1:] * edges[:-1])
-    fig, ax = plt.subplots(2, 3, figsize=(15, 8.5))
+    fig, ax = plt.subplots(2, 4, figsize=(20, 8.5))
+    for kt, mk in ((1e-8, "o"), (1e-4, "s")):
+        if kt not in kts:
+            continue
+        om = np.concatenate([s[kt][0] for s in samples])
+        pp = np.concatenate([s[kt][3] for s in samples])
+        pm = binned_mean(om, pp, edges)
+        ax[0, 3].loglog(mid, np.where(pm > 0, pm, np.nan), mk + "-", ms=3, label=f"{kt:g}")
+    ax[0, 3].axhline(1 / n_total, color="k", ls="--", lw=0.8, label="1/N")
+    ax[0, 3].set(xlabel="omega t0", ylabel="p(omega)", title="participation ratio (Fig. 14)")
+    ax[0, 3].legend(title="kT/kN", fontsize=7)
+    ax[1, 3].axis("off")
     for kt in kts:
         om = np.concatenate([s[kt][0] for s in samples])
         d = dos(om, n_total * len(samples), edges)
@@ -154,13 +165,19 @@ def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
         ax[1, 1].loglog(mid[dh2 > 0], dh2[dh2 > 0], "x", ms=4, label=f"H_eff, {kt:g}")
     ax[1, 1].set(xlabel="omega t0", ylabel="D(omega)",
                  title="Jacobian vs effective Hessian after a 1e-4 step (Fig. 12)")
-    ax[1, 1].legend(fontsize=6)
+    if eff:
+        ax[1, 1].legend(fontsize=6)
+    else:  # full tier: compared at the smaller sizes
+        ax[1, 1].axis("off")
     for kt, (ow, oo) in ratt.items():
         dw, do = dos(ow, n_total, edges), dos(oo, n_total, edges)
         ax[1, 2].loglog(mid[dw > 0], dw[dw > 0], "o", ms=3, label=f"with rattlers, {kt:g}")
         ax[1, 2].loglog(mid[do > 0], do[do > 0], "^", ms=3, label=f"without, {kt:g}")
     ax[1, 2].set(xlabel="omega t0", ylabel="D(omega)", title="rattlers (Fig. 13)")
-    ax[1, 2].legend(fontsize=6)
+    if ratt:
+        ax[1, 2].legend(fontsize=6)
+    else:
+        ax[1, 2].axis("off")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
