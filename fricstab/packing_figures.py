@@ -1,0 +1,143 @@
+"""Figures of ``fricstab packing make|rigidity|dos`` (matplotlib, Agg backend).
+
+``packing_figure``: disks to scale in the periodic box, rattlers in grey,
+contact forces as lines of width ~ force.  ``rigidity_figure``: G_A, G_NA and
+G (solve, modes, step strain) against kT/kN, and the nonaffine rates of theory
+against step strain (Ishima Fig. 3c).  ``dos_figure``: D(omega) (Fig. 9) and
+psi^T, psi^R against omega (Fig. 8).  Each writes a PNG to ``path``.
+"""
+
+import numpy as np
+
+__all__ = ["dos_figure", "packing_figure", "rigidity_figure"]
+
+
+def packing_figure(packing, net, force, rattler, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection, PatchCollection
+    from matplotlib.patches import Circle
+
+    box = packing.box
+    radius = packing.diameter / 2
+    fig, ax = plt.subplots(figsize=(7, 7))
+    patches, colours = [], []
+    for i, (x, y) in enumerate(packing.pos):
+        r = radius[i]
+        for sx in (-box, 0.0, box):
+            for sy in (-box, 0.0, box):
+                cx, cy = x + sx, y + sy
+                if -r < cx < box + r and -r < cy < box + r:
+                    patches.append(Circle((cx, cy), r))
+                    colours.append("0.75" if rattler[i] else
+                                   ("#8fb8de" if packing.diameter[i] == 1 else "#f4b183"))
+    ax.add_collection(PatchCollection(patches, facecolors=colours, edgecolors="0.3",
+                                      linewidths=0.4))
+    if net.m:
+        i, j = net.pairs[:, 0], net.pairs[:, 1]
+        a = packing.pos[i]
+        b = a - net.sep                       # the image of j touching i
+        segs = [np.stack([a, b], axis=1)]
+        # The same contact seen from j's side, where it crosses the boundary.
+        c = packing.pos[j]
+        crossing = np.any(np.abs(b - c) > 1e-9 * box, axis=1)
+        segs.append(np.stack([c[crossing], (c + net.sep)[crossing]], axis=1))
+        width = 0.3 + 3.0 * force / force.max() if force.max() > 0 else np.full(net.m, 0.5)
+        lines = LineCollection(np.concatenate(segs),
+                               linewidths=np.concatenate([width, width[crossing]]),
+                               colors="k")
+        ax.add_collection(lines)
+    ax.add_patch(plt.Rectangle((0, 0), box, box, fill=False, lw=1.0, ec="k"))
+    ax.set_xlim(0, box)
+    ax.set_ylim(0, box)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / d")
+    ax.set_ylabel("y / d")
+    ax.set_title(f"N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
+                 f"{net.m} contacts, {int(rattler.sum())} rattlers (grey)\n"
+                 "lines: contact forces, width ~ |f|")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120, format="png")
+    plt.close(fig)
+
+
+def rigidity_figure(results, first, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
+    pos = [e for e in results if e["kt"] > 0]
+    zero = [e for e in results if e["kt"] == 0]
+    series = (("g_a", "$G_A$", "C0", "o", "-"), ("g_na_solve", "$G_{NA}$", "C1", "s", "-"),
+              ("g", "$G$ (solve)", "C2", "D", "-"), ("g_modes", "$G$ (modes)", "C3", "x", "none"),
+              ("g_step", "$G$ (step strain)", "k", "+", "none"))
+    for key, label, colour, marker, ls in series:
+        pts = [(e["kt"], e[key]) for e in pos if e[key] is not None]
+        if pts:
+            x, y = zip(*pts)
+            a.plot(x, y, color=colour, marker=marker, ls=ls, label=label, ms=7)
+        for e in zero:
+            if e[key] is not None:
+                a.axhline(e[key], color=colour, ls=":", lw=0.8)
+    if pos:
+        a.errorbar([e["kt"] for e in pos], [e["g_step"] for e in pos],
+                   yerr=[e["g_step_error"] for e in pos], fmt="none", ecolor="k", capsize=3)
+        a.set_xscale("log")
+    a.axhline(0, color="0.6", lw=0.5)
+    a.set_xlabel("$k_T / k_N$")
+    a.set_ylabel("rigidity ($k_N d^{1/2}$)")
+    a.set_title("(a) rigidity" + (" (dotted: $k_T = 0$)" if zero else ""))
+    a.legend(fontsize=8)
+    kt, u, step = first
+    k = u.shape[1]
+    names = ("x", "y", "l")
+    for c in range(k):
+        b.plot(u[:, c], step[:, c], ".", ms=4, label=f"{names[c]} components")
+    lim = max(np.abs(u).max(), np.abs(step).max(), 1e-300) * 1.05
+    b.plot([-lim, lim], [-lim, lim], color="0.5", lw=0.8)
+    b.set_xlim(-lim, lim)
+    b.set_ylim(-lim, lim)
+    b.set_aspect("equal")
+    b.set_xlabel("nonaffine rate, theory ($u = J^{-1} \\Xi$)")
+    b.set_ylabel("nonaffine rate, step strain")
+    b.set_title(f"(b) $k_T/k_N$ = {kt:g} (cf. Ishima Fig. 3c)")
+    b.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)
+
+
+def dos_figure(spectra, edges, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    centres = np.sqrt(edges[:-1] * edges[1:])
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
+    for i, s in enumerate(spectra):
+        colour = f"C{i % 10}"
+        d = np.where(s["dos"] > 0, s["dos"], np.nan)
+        a.plot(centres, d, "o-", color=colour, ms=3, label=f"$k_T/k_N$ = {s['kt']:g}")
+        empty = np.histogram(s["omega"], bins=edges)[0] == 0
+        b.plot(centres, np.where(empty, np.nan, s["psi_t_mean"]), ".-", color=colour, ms=3,
+               label=f"$\\psi^T$, {s['kt']:g}")
+        if s["k"] == 3:
+            b.plot(centres, np.where(empty, np.nan, s["psi_r_mean"]), "x--", color=colour,
+                   ms=3, label=f"$\\psi^R$, {s['kt']:g}")
+    a.set_xscale("log")
+    a.set_yscale("log")
+    a.set_xlabel("$\\omega t_0$")
+    a.set_ylabel("$D(\\omega)$")
+    a.set_title("density of states (cf. Ishima Fig. 9)")
+    a.legend(fontsize=8)
+    b.set_xscale("log")
+    b.set_ylim(-0.02, 1.02)
+    b.set_xlabel("$\\omega t_0$")
+    b.set_ylabel("participation fraction")
+    b.set_title("$\\psi^T$ (solid), $\\psi^R$ (dashed) (cf. Ishima Fig. 8)")
+    b.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)
