@@ -36,10 +36,13 @@ __all__ = ["Spectrum", "binned_mean", "dos", "log_bins", "participation",
 
 @dataclass(frozen=True)
 class Spectrum:
-    """Eigenvalues (ascending real parts) and unit right eigenvectors (columns)."""
+    """Eigenvalues (ascending real parts), unit right eigenvectors (columns) and
+    left eigenvectors scaled so that ``left[:, n].conj() @ right[:, n] = 1``
+    (the same array as ``right`` on the symmetric route)."""
 
     eigenvalues: np.ndarray
     right: np.ndarray
+    left: np.ndarray
     route: str
     seconds: float
     asymmetry: float
@@ -65,29 +68,24 @@ def spectrum(jac, route="auto", vectors=True):
     t0 = time.perf_counter()
     if route == "symmetric":
         sym = (dense + dense.T) / 2
-        if vectors:
-            w, v = scipy.linalg.eigh(sym)
-        else:
-            w, v = scipy.linalg.eigvalsh(sym), None
-        max_imag = 0.0
+        w, right = scipy.linalg.eigh(sym) if vectors else (scipy.linalg.eigvalsh(sym), None)
+        left = right
     elif route == "dense":
         if vectors:
-            w, _, v = scipy.linalg.eig(dense, left=True, right=True)
+            w, left, right = scipy.linalg.eig(dense, left=True, right=True)
         else:
-            w, v = scipy.linalg.eigvals(dense), None
-        max_imag = float(np.abs(w.imag).max())
+            w, left, right = scipy.linalg.eigvals(dense), None, None
         order = np.argsort(w.real, kind="stable")
         w = w[order]
-        if v is not None:
-            v = v[:, order]
-            v = v / np.linalg.norm(v, axis=0)
-            # Real spectrum: a real eigenvector up to a phase; rotate it real.
-            if max_imag == 0.0:
-                v = v.real if np.iscomplexobj(v) and np.abs(v.imag).max() == 0 else v
-        w = w.real if max_imag == 0.0 else w
+        if vectors:
+            right = right[:, order] / np.linalg.norm(right[:, order], axis=0)
+            left = left[:, order]
+            left = left / np.einsum("ij,ij->j", left.conj(), right).conj()
     else:
         raise ValueError(f"unknown spectrum route {route!r}; use dense, symmetric or auto")
-    return Spectrum(w, v, route, time.perf_counter() - t0, asym, max_imag)
+    max_imag = float(np.abs(np.imag(w)).max())
+    w = w.real if max_imag == 0.0 else w
+    return Spectrum(w, right, left, route, time.perf_counter() - t0, asym, max_imag)
 
 
 def participation(right, k):

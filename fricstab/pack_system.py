@@ -85,7 +85,7 @@ def carry_history(old_pairs, old_hist, new_pairs, n):
     return hist
 
 
-def assemble(net, radius, kt, jacobian=True):
+def assemble(net, radius, kt):
     """Generalized forces (N, ndof) and contact blocks ``K_c = dF/dq`` (M, 2 ndof, 2 ndof)."""
     n, k = len(radius), ndof(kt)
     forces = np.zeros((n, k))

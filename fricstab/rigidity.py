@@ -42,10 +42,10 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
+from fricstab.dos import spectrum
 from fricstab.pack_system import (affine_rates, assemble, contact_dofs, ndof, network,
                                   sparse_jacobian)
 
@@ -139,41 +139,21 @@ def mode_sum(jac, xi, theta, box, k, route="auto", n_zero=2):
     vectors, biorthonormalized), or ``"auto"`` (symmetric when
     ``max|J - J^T| <= 1e-12 max|J|``).  Returns ``G_NA`` and checks.
     """
-    dense = jac.toarray()
-    asym = np.abs(dense - dense.T).max() / np.abs(dense).max()
-    if route == "auto":
-        route = "symmetric" if asym <= 1e-12 else "dense"
-    n = dense.shape[0] // k
-    t0 = time.perf_counter()
-    if route == "symmetric":
-        w, v = scipy.linalg.eigh((dense + dense.T) / 2)
-        left = right = v
-        biortho = np.abs(v.T @ v - np.eye(len(w))).max()
-    elif route == "dense":
-        w, vl, vr = scipy.linalg.eig(dense, left=True, right=True)
-        right = vr / np.linalg.norm(vr, axis=0)
-        s = np.einsum("ij,ij->j", vl.conj(), right)
-        left = vl / s.conj()
-        order = np.argsort(np.abs(w))
-        nz = order[n_zero:]
-        biortho = np.abs(left[:, nz].conj().T @ right[:, nz] - np.eye(len(nz))).max()
-    else:
-        raise ValueError(f"unknown route {route!r}")
-    seconds = time.perf_counter() - t0
+    sp = spectrum(jac, route)
+    w, left, right = sp.eigenvalues, sp.left, sp.right
     order = np.argsort(np.abs(w))
     zero, rest = order[:n_zero], order[n_zero:]
+    biortho = np.abs(left[:, rest].conj().T @ right[:, rest] - np.eye(len(rest))).max()
     # The excluded modes must be the translations: check their span.
-    c = zero_modes(n, k)
-    zr = right[:, zero]
-    q, _ = np.linalg.qr(zr)
+    c = zero_modes(len(w) // k, k)
+    q, _ = np.linalg.qr(right[:, zero])
     span_err = np.linalg.norm(c - q @ (q.conj().T @ c))
     coef = (left[:, rest].conj().T @ xi) / w[rest]
-    u = right[:, rest] @ coef
-    g_na = -(theta @ u).real / box**2
+    g_na = -(theta @ (right[:, rest] @ coef)).real / box**2
     gap = np.abs(w[rest]).min() / max(np.abs(w[zero]).max(), np.finfo(float).tiny)
-    return g_na, {"route": route, "asymmetry": float(asym), "biorthonormality": float(biortho),
-                  "zero_mode_span_error": float(span_err), "zero_gap": float(gap),
-                  "max_imag": float(np.abs(np.imag(w)).max()), "seconds": seconds,
+    return g_na, {"route": sp.route, "asymmetry": sp.asymmetry,
+                  "biorthonormality": float(biortho), "zero_mode_span_error": float(span_err),
+                  "zero_gap": float(gap), "max_imag": sp.max_imag, "seconds": sp.seconds,
                   "eigenvalues": np.sort(np.real(w))}
 
 

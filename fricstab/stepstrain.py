@@ -28,14 +28,12 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sps
-import scipy.sparse.linalg as spla
 
 from fricstab.laws import ParameterError
 from fricstab.pack_system import (Network, assemble, history_increment, ndof, network,
                                   shear_stress, sparse_jacobian)
 from fricstab.packing import ConvergenceError
-from fricstab.rigidity import zero_modes
+from fricstab.rigidity import solve_nonaffine
 
 __all__ = ["ConvergenceError", "Relaxed", "StepStrain", "relax", "step_strain"]
 
@@ -68,25 +66,23 @@ def relax(pos, ell, radius, box, kt, shift=0.0, net=None, f_tol=1e-14, max_iter=
     k = ndof(kt)
     n = len(radius)
     pos, ell = pos.copy(), ell.copy()
-    c = sps.csr_matrix(zero_modes(n, k))
     gained = lost = 0
     prev = net
     for it in range(max_iter + 1):
         net = network(_wrap(pos, box, shift), radius, box, shift, prev)
         if prev is not None:
-            key_old = set(map(tuple, prev.pairs.tolist()))
-            key_new = set(map(tuple, net.pairs.tolist()))
-            gained += len(key_new - key_old)
-            lost += len(key_old - key_new)
+            key_old = prev.pairs[:, 0] * n + prev.pairs[:, 1]
+            key_new = net.pairs[:, 0] * n + net.pairs[:, 1]
+            gained += len(np.setdiff1d(key_new, key_old))
+            lost += len(np.setdiff1d(key_old, key_new))
         forces, blocks = assemble(net, radius, kt)
         res = float(np.abs(forces).max()) if n else 0.0
         if res < f_tol:
             return Relaxed(pos, ell, net, shift, res, it, gained, lost)
         if it == max_iter:
             break
-        jac = sparse_jacobian(net.pairs, blocks, n, kt)  # = -K
-        a = sps.bmat([[-jac, c], [c.T, None]], format="csc")
-        dq = spla.spsolve(a, np.concatenate([-forces.ravel(), np.zeros(2)]))[:-2]
+        # K dq = -F, i.e. J dq = F, on the complement of the translations
+        dq, _ = solve_nonaffine(sparse_jacobian(net.pairs, blocks, n, kt), forces.ravel(), n, k)
         if not np.all(np.isfinite(dq)):
             raise ConvergenceError(f"Newton step is not finite at iteration {it} "
                                    f"(residual {res:.3g}): singular Jacobian")

@@ -34,7 +34,7 @@ __all__ = ["generate_law", "main", "render_all"]
 
 OUT_DIR = Path(__file__).resolve().parent.parent / "fricstab" / "generated"
 COMMAND = "python -m symbolic.codegen"
-TEMPLATE_VERSION = "4"
+TEMPLATE_VERSION = "5"
 
 
 class _KernelPrinter(PythonCodePrinter):
@@ -96,7 +96,8 @@ def _prologue(law, used):
         if sym is not None:
             lines.append(f"{sym} = {_code(defs[sym])}")
     lines.append("sdelta = np.sqrt(delta)")
-    if law.history:
+    # |t| only where the Coulomb limit or the expressions need it (not Ishima's linear law)
+    if law.history and (law.coulomb or used & {"tn", "inv_tn"}):
         t = [str(h) for h in law.history]
         lines.append(f"tn = np.sqrt({' + '.join(f'{c} * {c}' for c in t)})")
         if law.coulomb:
