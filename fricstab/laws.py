@@ -13,9 +13,9 @@ import importlib
 import math
 from dataclasses import dataclass
 
-from fricstab.generated import LAW_NAMES
+from fricstab.generated import CAPPED_LAW_NAMES, LAW_NAMES
 
-__all__ = ["LAW_NAMES", "LawInfo", "ParameterError", "check_parameters", "evaluate", "get_law"]
+__all__ = ["CAPPED_LAW_NAMES", "LAW_NAMES", "LawInfo", "ParameterError", "check_parameters", "evaluate", "get_law"]
 
 
 class ParameterError(ValueError):
@@ -46,16 +46,21 @@ class LawInfo:
     @property
     def params(self):
         """Material parameters among the inputs, in kernel order."""
-        return tuple(a for a in self.inputs if a in ("kn", "kt", "mu"))
+        return tuple(a for a in self.inputs if a in ("kn", "kt", "mu", "E", "nu", "mus", "mur"))
 
 
 _CACHE = {}
 
 
 def get_law(name):
-    """The :class:`LawInfo` of law ``name``; ParameterError if unknown."""
-    if name not in LAW_NAMES:
-        raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(LAW_NAMES)}")
+    """The :class:`LawInfo` of law ``name``; ParameterError if unknown.
+
+    ``name`` is one of :data:`LAW_NAMES` or :data:`CAPPED_LAW_NAMES`
+    (``lee_hurley``, verified by :mod:`fricstab.shear_verify`).
+    """
+    if name not in LAW_NAMES + CAPPED_LAW_NAMES:
+        raise ParameterError(f"unknown law {name!r}; known laws: "
+                             f"{', '.join(LAW_NAMES + CAPPED_LAW_NAMES)}")
     if name not in _CACHE:
         mod = importlib.import_module(f"fricstab.generated.{name}")
         _CACHE[name] = LawInfo(
@@ -68,14 +73,17 @@ def get_law(name):
     return _CACHE[name]
 
 
-_POSITIVE = ("kn", "kt", "mu", "R", "Ri", "Rj", "radius")
+_POSITIVE = ("kn", "kt", "mu", "R", "Ri", "Rj", "radius", "E", "mus")
+#: Closed-open ranges ``[lo, hi)`` of bounded parameters (Poisson ratio: Lai's
+#: k_t has nu/(2(1 - nu)); rolling friction may be 0: no rolling resistance).
+_RANGES = {"nu": (0.0, 0.5), "mur": (0.0, float("inf"))}
 
 
 def check_parameters(**values):
     """Raise ParameterError naming the first bad parameter.
 
-    Radii, stiffnesses and the friction coefficient must be finite and > 0;
-    every other value must be finite.
+    Radii, stiffnesses, E* and the friction coefficients mu, mus must be
+    finite and > 0; nu in [0, 0.5); mur >= 0; every other value finite.
     """
     for key, v in values.items():
         try:
@@ -86,6 +94,9 @@ def check_parameters(**values):
             raise ParameterError(f"{key} must be finite, got {v!r}")
         if key in _POSITIVE and x <= 0.0:
             raise ParameterError(f"{key} must be > 0, got {v!r}")
+        if key in _RANGES and not _RANGES[key][0] <= x < _RANGES[key][1]:
+            lo, hi = _RANGES[key]
+            raise ParameterError(f"{key} must be in [{lo:g}, {hi:g}), got {v!r}")
 
 
 def evaluate(name, **inputs):

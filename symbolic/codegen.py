@@ -15,6 +15,12 @@ For each law of :mod:`symbolic.laws` one module is written with
   (frictional laws only);
 * ``<law>_assemble(...)``: the loop over an array of contacts.
 
+Laws with capped scalar histories (:data:`symbolic.laws.CAPPED_LAWS`, e.g.
+``lee_hurley``) have their own template (:func:`generate_capped_law`): the
+same four kernels plus ``<law>_contact`` (the contact quantities a DEM
+stores), the implicit contact width from ``fricstab._numerics``, and the caps
+applied in the prologue with branch flags in the Jacobian.
+
 Output is deterministic for a given SymPy version (pinned in pyproject.toml);
 each file starts with a "generated, do not edit" line naming this command and
 the SHA-256 of the law's symbolic expressions.
@@ -28,9 +34,9 @@ from pathlib import Path
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from symbolic.laws import LAWS, derive
+from symbolic.laws import CAPPED_LAWS, LAWS, derive
 
-__all__ = ["generate_law", "main", "render_all"]
+__all__ = ["generate_capped_law", "generate_law", "main", "render_all"]
 
 OUT_DIR = Path(__file__).resolve().parent.parent / "fricstab" / "generated"
 COMMAND = "python -m symbolic.codegen"
@@ -52,6 +58,15 @@ class _KernelPrinter(PythonCodePrinter):
         if e.is_Integer and -4 <= e <= -1:
             return "(1.0 / (" + " * ".join([base] * int(-e)) + "))"
         return super()._print_Pow(expr, rational=rational)
+
+    def _print_log(self, expr):
+        return f"np.log({self._print(expr.args[0])})"
+
+    def _print_exp(self, expr):
+        return f"np.exp({self._print(expr.args[0])})"
+
+    def _print_Pi(self, expr):
+        return "np.pi"
 
     def _print_Rational(self, expr):
         return repr(float(expr))
@@ -245,14 +260,170 @@ def _assemble(law, args, nf, nq, nh):
     ]
 
 
+def _capped_hash(law):
+    h = hashlib.sha256()
+    h.update(CAPPED_TEMPLATE_VERSION.encode())
+    for m in (law.force, law.increment, law.jacobian, sp.Matrix(law.caps),
+              sp.Matrix([e for _, e in law.contact]), sp.Matrix([e for e, _ in law.domain])):
+        h.update(sp.srepr(m).encode())
+    h.update(repr((law.inputs, law.coords, law.outputs, law.capped, law.slides,
+                   tuple(n for n, _ in law.contact), tuple(m for _, m in law.domain))).encode())
+    return h.hexdigest()
+
+
+def _capped_prologue(law, zero_lines, caps=True, domain=True):
+    """Overlap, contact width, and (``caps``) the capped histories with flags."""
+    g = law.geometry
+    ft, mr = (str(h) for h in law.history)
+    ftc, mrc = (str(c) for c in law.capped)
+    st, sr = (str(c) for c in law.slides)
+    lines = [
+        "r = np.sqrt(dx * dx + dy * dy)",
+        "delta = Ri + Rj - r",
+        "# Recover the digits the subtraction cancels (fricstab/_numerics.py);",
+        "# only the real part changes, so complex-step derivatives are kept.",
+        "delta = delta + overlap_correction(dx.real, dy.real, Ri.real, Rj.real, delta.real)",
+        "if delta.real <= 0.0:  # no contact: zero output",
+        *["    " + z for z in zero_lines],
+        "    return",
+        f"nx = {_code(dict(g.intermediates())[g.nx])}",
+        f"ny = {_code(dict(g.intermediates())[g.ny])}",
+        "# Implicit Hertz-cylinder width: lam = ln(4Ri/a) + ln(4Rj/a) - 1 (Eq. A2),",
+        "# raises ValueError beyond the turning point delta = 4 (Ri + Rj)/e^2.",
+        "lam = cylinder_lambda(delta, Ri, Rj)",
+        f"hw = {_code(dict(g.intermediates())[g.hw])}",
+    ]
+    if domain:
+        for expr, message in law.domain:
+            lines += [f"if not ({_code(expr)}).real > 0.0:", f"    raise ValueError({message!r})"]
+    if caps:
+        cap_t, cap_r = (_code(c) for c in law.caps)
+        lines += [
+            "# Caps with the elastic normal force (A10, A18); past a cap the",
+            "# trial history is put back on it (A23) and its branch flag set.",
+            f"cap_t = {cap_t}",
+            f"{st} = 0.0",
+            f"{ftc} = {ft}",
+            f"if abs({ft}.real) > cap_t.real:",
+            f"    {ftc} = cap_t if {ft}.real > 0.0 else -cap_t",
+            f"    {st} = 1.0",
+            f"cap_r = {cap_r}",
+            f"{sr} = 0.0",
+            f"{mrc} = {mr}",
+            f"if abs({mr}.real) > cap_r.real:",
+            f"    {mrc} = cap_r if {mr}.real > 0.0 else -cap_r",
+            f"    {sr} = 1.0",
+        ]
+    return lines
+
+
+def _capped_function(name, args, doc, exprs, targets, law, zero_lines, caps=True, extra=(),
+                     domain=True):
+    body, _ = _body(exprs, targets)
+    out = ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
+    out += ["    " + ln for ln in _capped_prologue(law, zero_lines, caps, domain)]
+    out += ["    " + b for b in body]
+    out += ["    " + e for e in extra]
+    return out
+
+
+def generate_capped_law(law):
+    """Source of the generated module for a :class:`symbolic.laws.CappedLaw`."""
+    args = [str(s) for s in law.inputs]
+    nf, nq = law.jacobian.shape
+    nh = len(law.history)
+    names = [n for n, _ in law.contact]
+    lines = [
+        f"# generated by `{COMMAND}`; do not edit. "
+        f"symbolic-inputs-sha256: {_capped_hash(law)}",
+        f'"""Generated contact kernels for the law ``{law.name}``.',
+        "",
+        f"{law.summary}.",
+        "",
+        f"Arguments: {', '.join(args)}; {', '.join(str(h) for h in law.history)} are the",
+        "trial histories (after the DEM's increment), capped inside the kernels.",
+        f"Generalized forces f (rows): {', '.join(law.outputs)}.",
+        f"Jacobian columns: {', '.join(law.coords)}; jac[a, b] = d f[a] / d q[b]",
+        "with the histories advanced by the increment rule (hypoelastic) and the caps:",
+        "a sliding history follows its cap.  Conventions: symbolic/laws.py,",
+        "lee_hurley_pair.  Contact quantities (<law>_contact, out[0:9]): delta, a,",
+        f"{', '.join(names)}, {', '.join(str(c) for c in law.capped)}, sliding flag",
+        "(0 none, 1 tangential, 2 rolling, 3 both).",
+        '"""',
+        "",
+        "import numpy as np",
+        "",
+        "from fricstab._numba import kernel_jit",
+        "from fricstab._numerics import cylinder_lambda, overlap_correction",
+        "",
+        f"__all__ = [{', '.join(repr(law.name + s) for s in _CAPPED_SUFFIXES)}]",
+        "",
+        f"NAME = {law.name!r}",
+        f"KIND = {law.kind!r}",
+        f"INPUTS = {tuple(args)!r}",
+        f"COORDS = {law.coords!r}",
+        f"OUTPUTS = {law.outputs!r}",
+        f"HISTORY = {tuple(str(h) for h in law.history)!r}",
+        f"COULOMB = {law.coulomb!r}",
+        f"CONTACT = {('delta', 'a', *names, *(str(c) for c in law.capped), 'sliding')!r}",
+        "",
+        "",
+    ]
+    fz = [f"for a in range({nf}):", "    f[a] = 0.0"]
+    jz = [f"for a in range({nf}):", f"    for b in range({nq}):", "        jac[a, b] = 0.0"]
+    lines += _capped_function(
+        f"{law.name}_force", args + ["f"],
+        "Generalized forces of one contact into f (float64 or complex128).",
+        list(law.force), [f"f[{a}]" for a in range(nf)], law, fz, domain=False)
+    lines += ["", ""]
+    jac_exprs = list(law.force) + [law.jacobian[a, b] for a in range(nf) for b in range(nq)]
+    jac_targets = [f"f[{a}]" for a in range(nf)] + [
+        f"jac[{a}, {b}]" for a in range(nf) for b in range(nq)]
+    lines += _capped_function(
+        f"{law.name}_force_jacobian", args + ["f", "jac"],
+        "Forces into f and the Jacobian block dF/dq (with history and caps) into jac.",
+        jac_exprs, jac_targets, law, fz + jz)
+    lines += ["", ""]
+    inc_args = [a for a in args if a not in [str(h) for h in law.history]
+                and a not in ("mus", "mur")]
+    inc = [law.increment[a, b] for a in range(nh) for b in range(nq)]
+    lines += _capped_function(
+        f"{law.name}_increment", inc_args + ["rate"],
+        "Increment rule of the trial histories: d(ft, mr) = rate @ dq (rate: 2 x 6).",
+        inc, [f"rate[{a}, {b}]" for a in range(nh) for b in range(nq)], law,
+        [f"for a in range({nh}):", f"    for b in range({nq}):", "        rate[a, b] = 0.0"],
+        caps=False)
+    lines += ["", ""]
+    lines += _capped_function(
+        f"{law.name}_contact", args + ["out"],
+        "Contact quantities into out (9): delta, a, kn, kt, kr, Fn, ftc, mrc, sliding flag.",
+        [e for _, e in law.contact], [f"out[{k}]" for k in range(2, 2 + len(names))], law,
+        ["for a in range(9):", "    out[a] = 0.0"],
+        extra=["out[0] = delta", "out[1] = hw", f"out[6] = {law.capped[0]}",
+               f"out[7] = {law.capped[1]}", f"out[8] = {law.slides[0]} + 2.0 * {law.slides[1]}"])
+    lines += ["", ""] + _assemble(law, args, nf, nq, nh)
+    return "\n".join(lines) + "\n"
+
+
+_CAPPED_SUFFIXES = ("_force", "_force_jacobian", "_increment", "_contact", "_assemble")
+CAPPED_TEMPLATE_VERSION = "1"
+
+
 def render_all():
     """``{path: source}`` for every generated file."""
     files = {}
     for name in LAWS:
         files[OUT_DIR / f"{name}.py"] = generate_law(derive(name))
+    for name in CAPPED_LAWS:
+        files[OUT_DIR / f"{name}.py"] = generate_capped_law(derive(name))
     init = ['# generated by `python -m symbolic.codegen`; do not edit.',
-            '"""Generated contact-law kernels, one module per law (see symbolic/laws.py)."""',
-            "", f"LAW_NAMES = {tuple(LAWS)!r}", ""]
+            '"""Generated contact-law kernels, one module per law (see symbolic/laws.py).',
+            "",
+            "LAW_NAMES: the (kn, kt, mu, vector history t) family that the shared",
+            "verification harness and its tests sweep; CAPPED_LAW_NAMES: laws with",
+            'capped scalar histories and their own verification (fricstab.shear_verify)."""',
+            "", f"LAW_NAMES = {tuple(LAWS)!r}",
+            f"CAPPED_LAW_NAMES = {tuple(CAPPED_LAWS)!r}", ""]
     files[OUT_DIR / "__init__.py"] = "\n".join(init)
     return files
 

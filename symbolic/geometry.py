@@ -23,6 +23,7 @@ Two intermediates are chosen for numerical safety at the extremes:
 import sympy as sp
 
 __all__ = [
+    "CylinderPairGeometry",
     "PairGeometry",
     "WallGeometry",
     "chain_diff",
@@ -109,6 +110,62 @@ class WallGeometry:
             self.sdelta: {self.y: -1 / (2 * self.sdelta)},
             self.tn: {self.t: self.t * self.inv_tn},
             self.inv_tn: {self.t: -self.t * self.inv_tn**3},
+        }
+
+
+class CylinderPairGeometry:
+    """Disk-disk contact with the Hertz cylinder width; base variables dx, dy.
+
+    Same ``dx, dy, r, n, delta`` as :class:`PairGeometry`, plus two implicit
+    intermediates of the Hertz law for cylinders (Johnson 1985, Lee & Hurley
+    Eq. A2):
+
+    * ``lam = ln(4 R_i/a) + ln(4 R_j/a) - 1`` solving
+      ``lam - ln lam = ln(4 (R_i + R_j)/delta) - 1`` (the generated code calls
+      ``fricstab._numerics.cylinder_lambda``); implicit differentiation gives
+      ``d lam/d delta = -lam / ((lam - 1) delta)``;
+    * ``hw = a = 4 sqrt(R_i R_j) exp(-(lam + 1)/2)``, the contact half-width.
+
+    :meth:`intermediates` defines ``lam`` in closed form through the lower
+    branch of Lambert W, ``lam = -W_{-1}(-e delta/(4 (R_i + R_j)))``, so that
+    :func:`expand_geometry` yields an expression ``sympy.diff`` can check the
+    implicit derivative against.  The tangential and rolling histories are not
+    base variables here: the laws differentiate through their capped values
+    explicitly (see ``symbolic.laws.lee_hurley_pair``).
+    """
+
+    def __init__(self):
+        s = sp.Symbol
+        self.dx, self.dy = s("dx", real=True), s("dy", real=True)
+        self.r = s("r", positive=True)
+        self.nx, self.ny = s("nx", real=True), s("ny", real=True)
+        self.delta = s("delta", positive=True)
+        self.lam = s("lam", positive=True)
+        self.hw = s("hw", positive=True)
+        self.base = (self.dx, self.dy)
+
+    def intermediates(self):
+        ri, rj = sp.Symbol("Ri", positive=True), sp.Symbol("Rj", positive=True)
+        return [
+            (self.r, sp.sqrt(self.dx**2 + self.dy**2)),
+            (self.nx, self.dx / self.r),
+            (self.ny, self.dy / self.r),
+            (self.delta, ri + rj - self.r),
+            (self.lam, -sp.LambertW(-sp.E * self.delta / (4 * (ri + rj)), -1)),
+            (self.hw, 4 * sp.sqrt(ri * rj) * sp.exp(-(self.lam + 1) / 2)),
+        ]
+
+    def partials(self):
+        nx, ny, r = self.nx, self.ny, self.r
+        # d lam/d delta = -lam/((lam - 1) delta) and d delta/d(dx, dy) = -n
+        dlam = self.lam / ((self.lam - 1) * self.delta)
+        return {
+            self.r: {self.dx: nx, self.dy: ny},
+            self.nx: {self.dx: ny**2 / r, self.dy: -nx * ny / r},
+            self.ny: {self.dx: -nx * ny / r, self.dy: nx**2 / r},
+            self.delta: {self.dx: -nx, self.dy: -ny},
+            self.lam: {self.dx: dlam * nx, self.dy: dlam * ny},
+            self.hw: {self.dx: -self.hw * dlam * nx / 2, self.dy: -self.hw * dlam * ny / 2},
         }
 
 
