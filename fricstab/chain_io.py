@@ -2,7 +2,9 @@
 
 Scene file keys (all optional, defaults of :class:`fricstab.chain.ChainScene`):
 ``n, radius, mass, kn, kt, mu, fy, fx, inertia``, either at the top level or
-under a ``[chain]`` table.  An unknown key is an error naming it.
+under a ``[chain]`` table; the schema (types, units, ranges) is
+:data:`CHAIN_SCHEMA` (``fricstab scene show chain``).  An unknown key, a
+wrong type or a value out of range is an error naming it.
 
 Results are written atomically: to a temporary file in the same directory,
 then renamed, so an interrupted run leaves either no file or a complete one.
@@ -10,38 +12,47 @@ then renamed, so an interrupted run leaves either no file or a complete one.
 
 import os
 import tempfile
-import tomllib
 from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
 
 from fricstab.chain import ChainScene, contacts
-from fricstab.laws import ParameterError
+from fricstab.scene import Field, Schema, register, resolve
 
-__all__ = ["atomic_write", "export_state", "load_scene"]
+__all__ = ["CHAIN_SCHEMA", "atomic_write", "export_state", "load_scene", "scene_parameters"]
 
-_KEYS = {f.name for f in fields(ChainScene)}
+# Units: Charan's, length 2R = 1 (R = 0.5), m = 1; forces in kn (2R)^(3/2) units.
+CHAIN_SCHEMA = register(Schema("chain", "chain of disks on a flat substrate (Charan et al.)", (
+    Field("n", "int", 10, "-", "number of disks (periodic ring in x, period 2 N R)",
+          low=2, high=2000),
+    Field("radius", "float", 0.5, "length", "disk radius R (2R = 1 is Charan's length unit)",
+          low=0.0, low_open=True, cli=""),
+    Field("mass", "float", 1.0, "mass", "disk mass m", low=0.0, low_open=True, cli=""),
+    Field("kn", "float", 2000.0, "force/length^(3/2)", "Hertz normal stiffness k_n (Eq. 1)",
+          low=0.0, low_open=True, cli=""),
+    Field("kt", "float", None, "force/length^(3/2)", "tangential stiffness k_t (Eq. 2)",
+          low=0.0, low_open=True, default_doc="2 kn / 7", cli=""),
+    Field("mu", "float", 10.0, "-", "friction coefficient of the smoothed Coulomb law (Eq. 5)",
+          low=0.0, low_open=True),
+    Field("fy", "float", 0.1, "force", "pressing force F_y on every disk", low=0.0,
+          low_open=True),
+    Field("fx", "float", 0.0, "force", "pushing force F_x on disk 0 (ramp, jacobian, dynamics set it: --fx)",
+          cli=""),
+    Field("inertia", "float", None, "mass length^2", "moment of inertia I",
+          low=0.0, low_open=True, default_doc="m R^2 / 2 (uniform disk)"),
+)))
+
+
+def scene_parameters(path, **overrides):
+    """Validated chain scene keys (defaults filled): TOML ``path``, then ``overrides``."""
+    return resolve("chain", path, overrides)
 
 
 def load_scene(path, **overrides):
-    """A :class:`ChainScene` from a TOML file, then ``overrides`` (not None)."""
-    values = {}
-    if path is not None:
-        try:
-            data = tomllib.loads(Path(path).read_text())
-        except FileNotFoundError:
-            raise ParameterError(f"scene file {path} does not exist") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise ParameterError(f"scene file {path}: {exc}") from None
-        data = data.get("chain", data)
-        for key, value in data.items():
-            if key not in _KEYS:
-                raise ParameterError(f"scene file {path}: unknown key {key!r}; "
-                                     f"known: {', '.join(sorted(_KEYS))}")
-            values[key] = value
-    values.update({k: v for k, v in overrides.items() if v is not None})
-    return ChainScene(**values)
+    """A :class:`ChainScene` from a TOML file, then ``overrides`` (not None), validated."""
+    values = scene_parameters(path, **overrides)
+    return ChainScene(**{k: v for k, v in values.items() if v is not None})
 
 
 def atomic_write(path, write):

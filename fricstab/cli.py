@@ -12,23 +12,44 @@ Subcommands
     The chain of disks of Charan et al. (:mod:`fricstab.chain_cli`).
 ``fricstab packing make|rigidity|dos ...``
     Disk packings of Ishima et al.: rigidity and DOS (:mod:`fricstab.packing_cli`).
+``fricstab shear ...``
+    Plane shear of Lee & Hurley (:mod:`fricstab.shear_cli`, when installed).
+``fricstab scene show NAME`` / ``fricstab scene list``
+    The keys of a scene file: type, default, unit, allowed values (:mod:`fricstab.scene`).
 
-Bad input exits with status 2 and one line naming the parameter; no
-traceback reaches the user.
+Exit status
+-----------
+0 ok; 1 the operating system refused a file operation; 2 bad input (one
+line naming the parameter, its value and what is allowed); 3 theory and
+simulation (or a proof) disagree; 4 numerical failure (non-finite force,
+energy or eigenvalue; no convergence; out of memory), the last checkpoint
+kept; 70 internal error (a bug: one line, the traceback in
+``<out>/fricstab-error.log`` or shown with ``--debug``); 130 interrupted
+(checkpoints kept: rerun with ``--resume``).  No traceback reaches the user
+unless ``--debug`` is given.
 """
 
 import argparse
+import contextlib
+import io
 import json
 import math
+import os
 import platform
 import sys
+import tempfile
 import time
+import traceback
 from pathlib import Path
 
 from fricstab import __version__
 from fricstab.laws import LAW_NAMES, ParameterError, get_law
 
-__all__ = ["main"]
+__all__ = ["main", "EXIT_OK", "EXIT_OS", "EXIT_USAGE", "EXIT_DISAGREE", "EXIT_NUMERICAL",
+           "EXIT_INTERNAL", "EXIT_INTERRUPTED"]
+
+EXIT_OK, EXIT_OS, EXIT_USAGE, EXIT_DISAGREE, EXIT_NUMERICAL = 0, 1, 2, 3, 4
+EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
 
 
 class UsageError(Exception):
@@ -78,8 +99,16 @@ def _law_list(text):
 
 
 def _parser():
-    p = _Parser(prog="fricstab", description="Verified contact laws of frictional disks.")
+    p = _Parser(prog="fricstab", description="Verified contact laws of frictional disks, and "
+                "the protocols of three studies of frictional granular matter.",
+                epilog="exit status: 0 ok, 1 file system refused, 2 bad input, 3 theory and "
+                "simulation disagree, 4 numerical failure or no convergence (last checkpoint "
+                "kept), 70 internal error (a bug; log in the output folder), 130 interrupted "
+                "(resume with --resume)")
     p.add_argument("--version", action="version", version=f"fricstab {__version__}")
+    p.add_argument("--debug", action="store_true",
+                   help="show the traceback of an internal error (default: one line, the "
+                        "traceback written to a log file)")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     sub.add_parser("laws", help="list the contact laws")
@@ -110,7 +139,38 @@ def _parser():
     from fricstab import chain_cli, packing_cli
     chain_cli.add_parser(sub, _Parser, _positive_float)
     packing_cli.add_parser(sub, _Parser, _positive_float)
+    shear = _shear_cli()
+    if shear is not None:
+        shear.add_parser(sub, _Parser, _positive_float)
+    sc = sub.add_parser("scene", help="the keys of the scene files (show, list)")
+    ssub = sc.add_subparsers(dest="scene_command", metavar="SCENE_COMMAND",
+                             parser_class=_Parser)
+    ssub.required = True
+    show = ssub.add_parser("show", help="every key of a scene: type, default, unit, allowed, doc")
+    show.add_argument("name", help="scene name (see `fricstab scene list`)")
+    ssub.add_parser("list", help="the scene names")
     return p
+
+
+def _shear_cli():
+    """fricstab.shear_cli, or None where it is not installed."""
+    try:
+        from fricstab import shear_cli
+    except ImportError:
+        return None
+    if not (hasattr(shear_cli, "add_parser") and hasattr(shear_cli, "run")):
+        return None
+    return shear_cli
+
+
+def _cmd_scene(ns):
+    from fricstab import scene
+    if ns.scene_command == "list":
+        for name in scene.names():
+            print(f"{name:10s} {scene.get(name).title}")
+        return 0
+    print(scene.show(ns.name))
+    return 0
 
 
 def _ranges(ns):
@@ -197,29 +257,93 @@ def _cmd_verify(ns):
     return 0 if ok else 3
 
 
+def _dispatch(ns, argv):
+    if ns.command == "laws":
+        return _cmd_laws()
+    if ns.command == "scene":
+        return _cmd_scene(ns)
+    if ns.command == "chain":
+        from fricstab import chain_cli
+        return chain_cli.run(ns, argv)
+    if ns.command == "packing":
+        from fricstab import packing_cli
+        return packing_cli.run(ns, argv)
+    if ns.command == "shear":
+        return _shear_cli().run(ns, argv)
+    return _cmd_verify(ns)
+
+
+def _one_line(exc):
+    text = " ".join(str(exc).split())
+    return text if len(text) <= 500 else text[:497] + "..."
+
+
+def _resume_hint(ns):
+    out = getattr(ns, "out", None)
+    if out is not None and getattr(ns, "checkpoint_every", "n/a") != "n/a":
+        return f"; checkpoints kept in {out}: rerun the same command with --resume"
+    return ""
+
+
+def _log_internal(ns, exc):
+    """Write the traceback to ``<out>/fricstab-error.log`` (else a temporary file)."""
+    text = "".join(traceback.format_exception(exc))
+    out = getattr(ns, "out", None) if ns is not None else None
+    candidates = ([Path(out).expanduser()] if out is not None else []) + \
+        [Path(tempfile.gettempdir())]
+    for folder in candidates:
+        try:
+            if folder.is_dir():
+                path = folder / ("fricstab-error.log" if folder != candidates[-1]
+                                 else f"fricstab-error-{os.getpid()}.log")
+                path.write_text(text)
+                return path
+        except OSError:
+            continue
+    return None
+
+
 def main(argv=None):
-    """Entry point; returns the exit status (0 ok, 2 bad input, 3 failed proof)."""
+    """Entry point; returns the exit status (see the module docstring)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    ns = None
+    debug = "--debug" in argv or os.environ.get("FRICSTAB_DEBUG") == "1"
     try:
         ns = _parser().parse_args(argv)
-        if ns.command == "laws":
-            return _cmd_laws()
-        if ns.command == "chain":
-            from fricstab import chain_cli
-            return chain_cli.run(ns)
-        if ns.command == "packing":
-            from fricstab import packing_cli
-            return packing_cli.run(ns, sys.argv[1:] if argv is None else argv)
-        return _cmd_verify(ns)
+        quiet = getattr(ns, "quiet", False)
+        if quiet:
+            ns.no_progress = True
+        with contextlib.redirect_stdout(io.StringIO()) if quiet else contextlib.nullcontext():
+            return _dispatch(ns, argv)
+    except SystemExit as exc:   # --help, --version
+        return exc.code if isinstance(exc.code, int) else 0
     except (UsageError, ParameterError) as exc:
-        print(f"fricstab: error: {exc}", file=sys.stderr)
-        return 2
+        print(f"fricstab: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_USAGE
     except KeyboardInterrupt:
-        print("fricstab: interrupted", file=sys.stderr)
-        return 130
+        print(f"fricstab: interrupted{_resume_hint(ns)}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except MemoryError:
+        print("fricstab: error: out of memory; reduce the system size", file=sys.stderr)
+        return EXIT_NUMERICAL
     except OSError as exc:
-        print(f"fricstab: error: {exc.strerror or exc}: {exc.filename or ''}".rstrip(": "),
-              file=sys.stderr)
-        return 1
+        name = f": {exc.filename}" if exc.filename else ""
+        print(f"fricstab: error: {_one_line(exc.strerror or exc)}{name}", file=sys.stderr)
+        return EXIT_OS
+    except Exception as exc:
+        from fricstab.guards import NumericalError
+        if isinstance(exc, NumericalError):
+            print(f"fricstab: error: numerical failure: {_one_line(exc)}{_resume_hint(ns)}",
+                  file=sys.stderr)
+            return EXIT_NUMERICAL
+        if debug:
+            traceback.print_exception(exc, file=sys.stderr)
+            return EXIT_INTERNAL
+        log = _log_internal(ns, exc)
+        where = f"traceback in {log}" if log else "rerun with --debug for the traceback"
+        print(f"fricstab: internal error: {type(exc).__name__}: {_one_line(exc)[:200]} "
+              f"({where}; please report it)", file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":

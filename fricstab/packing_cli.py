@@ -58,16 +58,13 @@ Every file is written atomically (a complete file or none).
 import inspect
 import json
 import math
-import platform
 import shlex
 import sys
 import time
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
-from fricstab import __version__
 from fricstab.chain_io import atomic_write
 from fricstab.laws import ParameterError
 from fricstab.packing_figures import dos_figure, packing_figure, rigidity_figure
@@ -84,6 +81,7 @@ MAKE_KEYS = ("n", "phi", "seed", "dphi", "f_tol", "f_tol_compress")
 SCENE_KEYS = MAKE_KEYS + ("kt", "dgamma", "z_th", "route")
 ROUTES = ("auto", "symmetric", "dense")
 MODES_MAX_PARTICLES = 1100   # --modes default: on up to this backbone size
+_CPU0 = [0.0]                # process CPU time at the start of the command
 TOLERANCE = 0.01             # theory vs step strain, relative to |G|
 EXIT_DISAGREE = 3
 EXIT_CONVERGENCE = 4
@@ -126,6 +124,10 @@ def _common_options(c):
     c.add_argument("--force", action="store_true",
                    help="overwrite result files that already exist in --out")
     c.add_argument("--no-progress", action="store_true", help="no progress bars")
+    c.add_argument("--quiet", action="store_true",
+                   help="print nothing on success (errors still go to stderr)")
+    c.add_argument("--dry-run", action="store_true",
+                   help="validate and resolve every parameter, print them as JSON, write nothing")
 
 
 def add_parser(sub, parser_class, positive_float):
@@ -170,89 +172,61 @@ def add_parser(sub, parser_class, positive_float):
 
 # ------------------------------------------------------------------ parameters
 
-def _is_int(v):
-    return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
-
-
-def _is_number(v):
-    return (isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
-            and math.isfinite(v))
-
-
-def _rules():
+def _schema():
+    """The packing scene (``fricstab scene show packing``); one source of keys and ranges."""
     from fricstab.packing import PHI_MAX, PHI_START_MAX
-    positive = (lambda v: _is_number(v) and v > 0, "a finite number > 0")
-    kt_one = (lambda v: _is_number(v) and v >= 0)
-    return {
-        "n": (lambda v: _is_int(v) and v >= 4 and v % 2 == 0, "an even integer >= 4"),
-        "phi": (lambda v: _is_number(v) and PHI_START_MAX <= v <= PHI_MAX,
-                f"a number in [{PHI_START_MAX:g}, {PHI_MAX:g}]"),
-        "seed": (lambda v: _is_int(v) and v >= 0, "an integer >= 0"),
-        "dphi": positive, "f_tol": positive, "f_tol_compress": positive,
-        "kt": (lambda v: kt_one(v) or (isinstance(v, list) and len(v) > 0
-                                       and all(kt_one(x) for x in v)),
-               "a finite number >= 0 or a non-empty list of them"),
-        "dgamma": (lambda v: _is_number(v) and 0 < v <= 0.1, "a number in (0, 0.1]"),
-        "z_th": (lambda v: _is_int(v) and v >= 0, "an integer >= 0"),
-        "route": (lambda v: v in ROUTES, "one of " + ", ".join(ROUTES)),
-        "bins": (lambda v: _is_int(v) and v >= 1, "an integer >= 1"),
-    }
+    from fricstab.scene import Field, Schema
+    return Schema("packing", "bidisperse frictional disk packings (Ishima et al.)", (
+        Field("n", "int", DEFAULTS["n"], "-", "number of disks (half large d = 1, half small "
+              "d = 1/1.4); cost of rigidity/dos grows as n^1.5 (sparse) to n^3 (dense modes)",
+              low=4, high=200_000, check=lambda v: v % 2 == 0, check_doc="even"),
+        Field("phi", "float", DEFAULTS["phi"], "-", "area fraction of the packing",
+              low=PHI_START_MAX, high=PHI_MAX),
+        Field("seed", "int", DEFAULTS["seed"], "-", "seed of the random placement",
+              low=0, high=2 ** 63 - 1),
+        Field("dphi", "float", DEFAULTS["dphi"], "-", "compression increment (paper 1e-4); "
+              "smaller is slower, closer to the paper's protocol", low=0.0, low_open=True),
+        Field("f_tol", "float", DEFAULTS["f_tol"], "k_N d", "force threshold at the target "
+              "phi: max |F| below it", low=0.0, low_open=True),
+        Field("f_tol_compress", "float", DEFAULTS["f_tol_compress"], "k_N d",
+              "force threshold of the intermediate compression steps (looser is faster)",
+              low=0.0, low_open=True),
+        Field("kt", "floats", None, "-", "k_T / k_N values; 0 = frictionless", low=0.0,
+              default_doc="rigidity: 1e-4 1 10; dos: 1e-8 1e-4 1 10"),
+        Field("dgamma", "float", DEFAULTS["dgamma"], "-", "step strain of the G check; "
+              "smaller is closer to linear response until round-off dominates",
+              low=0.0, high=0.1, low_open=True),
+        Field("z_th", "int", DEFAULTS["z_th"], "-", "rattlers: Z <= z_th, removed "
+              "iteratively", low=0, high=1000),
+        Field("route", "str", DEFAULTS["route"], "-", "eigen-solver: symmetric (eigh), dense "
+              "(eig), auto (symmetric when J = J^T to 1e-12)", choices=ROUTES),
+        Field("bins", "int", DEFAULTS["bins"], "-", "logarithmic frequency bins of the DOS",
+              low=1, high=100_000),
+    ))
 
 
 def _load_scene(path):
-    if path is None:
-        return {}
-    try:
-        data = tomllib.loads(Path(path).expanduser().read_text())
-    except FileNotFoundError:
-        raise ParameterError(f"--scene: file {path} does not exist") from None
-    except IsADirectoryError:
-        raise ParameterError(f"--scene: {path} is a directory, not a TOML file") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ParameterError(f"--scene: {path}: {' '.join(str(exc).split())}") from None
-    values = {k: v for k, v in data.items() if k != "packing"}
-    if "packing" in data:
-        if not isinstance(data["packing"], dict):
-            raise ParameterError(f"scene file {path}: key 'packing' must be a table "
-                                 f"([packing]), got {data['packing']!r}")
-        values.update(data["packing"])
-    for key in values:
-        if key not in SCENE_KEYS:
-            raise ParameterError(f"scene file {path}: unknown key {key!r}; "
-                                 f"known keys: {', '.join(SCENE_KEYS)}")
+    from fricstab.scene import load_toml
+    values = load_toml("packing", path)
+    values.pop("__source__", None)
     return values
 
 
 def _resolve(ns, keys, kt_default=None):
     """Parameter values: the command line, else the scene, else the default; all checked."""
-    scene = _load_scene(ns.scene)
-    rules = _rules()
+    from fricstab.scene import resolve
+    overrides = {k: getattr(ns, k, None) for k in SCENE_KEYS + ("bins",)}
+    values = resolve("packing", ns.scene, overrides)
     out = {}
     for key in keys:
-        cli = getattr(ns, key, None)
-        if cli is not None:
-            value, label = cli, "--" + key.replace("_", "-")
-        elif key in scene:
-            value, label = scene[key], f"scene file {ns.scene}: key {key!r}"
-        else:
-            out[key] = kt_default if key == "kt" else DEFAULTS[key]
-            continue
-        ok, allowed = rules[key]
-        if not ok(value):
-            raise ParameterError(f"{label} must be {allowed}, got {value!r}")
-        out[key] = value
+        out[key] = values[key]
     if "kt" in out:
-        kts = [float(k) for k in (out["kt"] if isinstance(out["kt"], list) else [out["kt"]])]
+        kts = out["kt"] if out["kt"] is not None else kt_default
+        kts = [float(k) for k in kts]
         names = [_kt_name(k) for k in kts]
         if len(set(names)) != len(names):
             raise ParameterError(f"--kt: duplicate values {kts}")
         out["kt"] = kts
-    for key in ("dphi", "f_tol", "f_tol_compress", "phi", "dgamma"):
-        if key in out:
-            out[key] = float(out[key])
-    for key in ("n", "seed", "z_th", "bins"):
-        if key in out:
-            out[key] = int(out[key])
     return out
 
 
@@ -338,18 +312,25 @@ def _write_npy(path, array):
     atomic_write(path, write)
 
 
-def _meta(argv, seconds):
-    import matplotlib
-    import numba
-    import scipy
+def _meta(argv, seconds, seed=None, params=None):
+    """Provenance of a record: command, versions, git revision, seed, timings."""
+    from fricstab.results import git_revision, versions
     return {
         "units": "d = 1 (large diameter), k_N = 1, m = 1, t0 = 1; kt = k_T / k_N",
         "command": "fricstab " + shlex.join(argv),
         "seconds": round(seconds, 3),
-        "versions": {"fricstab": __version__, "numpy": np.__version__,
-                     "scipy": scipy.__version__, "numba": numba.__version__,
-                     "matplotlib": matplotlib.__version__, "python": platform.python_version()},
+        "seed": seed,
+        "resolved_parameters": params,
+        "timings": {"total": {"wall_s": round(seconds, 4),
+                              "cpu_s": round(time.process_time() - _CPU0[0], 4)}},
+        "versions": versions(),
+        "git": git_revision(),
     }
+
+
+def _dry_run(params):
+    print(json.dumps(_clean(params), indent=2, allow_nan=False))
+    return 0
 
 
 def _rel(a, b):
@@ -404,8 +385,10 @@ def _make(ns, argv):
 
     t0 = time.perf_counter()
     params = _resolve(ns, MAKE_KEYS + ("z_th",))
-    out = _prepare_out(_check_out(ns.out, ["packing.npz", "packing.json", "packing.png"],
-                                  ns.force))
+    out = _check_out(ns.out, ["packing.npz", "packing.json", "packing.png"], ns.force)
+    if ns.dry_run:
+        return _dry_run(params)
+    out = _prepare_out(out)
     packing, _ = _obtain_packing(ns, params, None)
     radius = packing.diameter / 2
     net = network(packing.pos, radius, packing.box)
@@ -424,7 +407,7 @@ def _make(ns, argv):
     _save_packing(out / "packing.npz", packing)
     atomic_write(out / "packing.png",
                  lambda tmp: packing_figure(packing, net, force, rattler, tmp))
-    doc.update(_meta(argv, time.perf_counter() - t0))
+    doc.update(_meta(argv, time.perf_counter() - t0, params["seed"], params))
     _write_json(out / "packing.json", doc)
     print(f"packing N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
           f"L = {packing.box:.6g}, {net.m} contacts, {doc['rattlers']} rattlers (Z <= "
@@ -443,7 +426,10 @@ def _setup(ns, keys, command, result_names):
     _packing_source_checks(ns)
     kts = params["kt"]
     names = result_names(kts) + ([] if ns.packing else ["packing.npz"])
-    out = _prepare_out(_check_out(ns.out, names, ns.force))
+    out = _check_out(ns.out, names, ns.force)
+    if ns.dry_run:
+        return None
+    out = _prepare_out(out)
     packing, source = _obtain_packing(ns, params, out)
     return params, kts, out, packing, source, backbone(packing, z_th=params["z_th"])
 
@@ -459,9 +445,12 @@ def _rigidity(ns, argv):
     from fricstab.stepstrain import step_strain
 
     t0 = time.perf_counter()
-    params, kts, out, packing, source, bb = _setup(
-        ns, ("kt", "dgamma", "z_th", "route"), "rigidity",
-        lambda kts: ["rigidity.json", "rigidity.png"] + [_kt_name(k) for k in kts])
+    setup = _setup(ns, ("kt", "dgamma", "z_th", "route"), "rigidity",
+                   lambda kts: ["rigidity.json", "rigidity.png"] + [_kt_name(k) for k in kts])
+    if setup is None:
+        return _dry_run(_resolve(ns, MAKE_KEYS + ("kt", "dgamma", "z_th", "route"),
+                                 DEFAULT_KT["rigidity"]))
+    params, kts, out, packing, source, bb = setup
     modes = ns.modes if ns.modes is not None else bb.n <= MODES_MAX_PARTICLES
     results, first = [], None
     with tqdm(kts, desc="rigidity", unit="kt", disable=ns.no_progress or None,
@@ -523,7 +512,7 @@ def _rigidity(ns, argv):
     if source is None:
         doc["make"] = {k: params[k] for k in MAKE_KEYS}
     atomic_write(out / "rigidity.png", lambda tmp: rigidity_figure(results, first, tmp))
-    doc.update(_meta(argv, time.perf_counter() - t0))
+    doc.update(_meta(argv, time.perf_counter() - t0, params["seed"], params))
     _write_json(out / "rigidity.json", doc)
     print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, "
           f"L = {packing.box:.6g}; dgamma = {params['dgamma']:g}")
@@ -556,9 +545,12 @@ def _dos(ns, argv):
     from fricstab.rigidity import linear_response
 
     t0 = time.perf_counter()
-    params, kts, out, packing, source, bb = _setup(
-        ns, ("kt", "z_th", "route", "bins"), "dos",
-        lambda kts: ["dos.json", "dos.npz", "dos.png"])
+    setup = _setup(ns, ("kt", "z_th", "route", "bins"), "dos",
+                   lambda kts: ["dos.json", "dos.npz", "dos.png"])
+    if setup is None:
+        return _dry_run(_resolve(ns, MAKE_KEYS + ("kt", "z_th", "route", "bins"),
+                                 DEFAULT_KT["dos"]))
+    params, kts, out, packing, source, bb = setup
     spectra = []
     with tqdm(kts, desc="dos", unit="kt", disable=ns.no_progress or None,
               file=sys.stderr) as bar:
@@ -624,7 +616,7 @@ def _dos(ns, argv):
 
     atomic_write(out / "dos.npz", npz)
     atomic_write(out / "dos.png", lambda tmp: dos_figure(spectra, edges, tmp))
-    doc.update(_meta(argv, time.perf_counter() - t0))
+    doc.update(_meta(argv, time.perf_counter() - t0, params["seed"], params))
     _write_json(out / "dos.json", doc)
     print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}; "
           f"{params['bins']} log bins in omega [{edges[0]:.3g}, {edges[-1]:.3g}]")
@@ -645,6 +637,7 @@ def run(ns, argv=None):
     from fricstab.stepstrain import ConvergenceError as StepConvergence
 
     argv = list(sys.argv[1:] if argv is None else argv)
+    _CPU0[0] = time.process_time()
     try:
         if ns.packing_command == "make":
             return _make(ns, argv)
@@ -654,3 +647,11 @@ def run(ns, argv=None):
     except (PackingConvergence, StepConvergence) as exc:
         print(f"fricstab: error: no convergence: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_CONVERGENCE
+
+
+def _register():
+    from fricstab.scene import register
+    register(_schema())
+
+
+_register()

@@ -68,7 +68,8 @@ from fricstab.laws import ParameterError
 __all__ = ["PAPER_BINS", "ShearAnalysis", "analyze", "binned_spearman", "contact_angle",
            "d2min", "differential_forces", "find_phases", "gr_regions",
            "neighbour_pairs", "nonaffine_displacement", "particle_stress", "phase_metrics",
-           "phase_summary", "rattler_mask", "spearman_cell", "step_metrics"]
+           "phase_summary", "rattler_mask", "spearman_cell", "step_metrics",
+           "tables_markdown"]
 
 #: Bins of Delta tau (and Delta tau_p) of Figs. 9, 10 and 13.
 PAPER_BINS = ((-1e-1, -1e-2), (-1e-2, -1e-3), (-1e-3, -1e-4), (-1e-4, 0.0),
@@ -333,6 +334,34 @@ def binned_spearman(key, values, bins=PAPER_BINS, **kw):
             cells.append({"lo": lo, "hi": hi, **spearman_cell(key[m], v[m], **kw)})
         out[name] = cells
     return out
+
+
+def tables_markdown(tables, title="Spearman correlations"):
+    """Markdown of :func:`binned_spearman` tables: one row per series, one column per bin.
+
+    A cell reads ``rho (p)``; cells with p > 0.05 are struck through, as the
+    paper omits them; ``n/a`` where fewer than 3 samples or constant input.
+    ``tables`` maps a section name to ``{series: [cell per bin]}``.
+    """
+    lines = [f"## {title}", ""]
+    for section, series in tables.items():
+        if not series:
+            continue
+        cells0 = next(iter(series.values()))
+        head = [f"[{c['lo']:g}, {c['hi']:g})" for c in cells0]
+        lines += [f"### {section}", "", "| series | " + " | ".join(head) + " |",
+                  "|---" * (len(head) + 1) + "|"]
+        for name, cells in series.items():
+            row = []
+            for c in cells:
+                if c["rho"] is None:
+                    row.append(f"n/a (n={c['n']})")
+                else:
+                    txt = f"{c['rho']:+.2f} (p={c['p']:.1e}, n={c['n']})"
+                    row.append(txt if c["significant"] else f"~~{txt}~~")
+            lines.append(f"| {name} | " + " | ".join(row) + " |")
+        lines.append("")
+    return "\n".join(lines)
 
 
 def find_phases(tau, step_ok):

@@ -23,7 +23,7 @@ __all__ = ["fig_d2min_map", "fig_differential_network", "fig_force_network",
 
 
 def _save(fig, path):
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, format="png", dpi=120)  # atomic writers pass a .tmp name
     plt.close(fig)
 
 

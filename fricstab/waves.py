@@ -28,7 +28,7 @@ from fricstab.observables import centre_of_mass, first_breach, paper_time
 from fricstab.quasistatic import relax_newton
 
 __all__ = ["Realization", "WaveFit", "first_slide", "fit_waves", "ramped_equilibrium",
-           "run_realization", "wave_figure"]
+           "realization_member", "realization_from_arrays", "run_realization", "wave_figure"]
 
 
 @dataclass(frozen=True)
@@ -88,6 +88,20 @@ def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
     late = t >= 0.7 * t[-1]
     v = float(np.polyfit(t[late], centre_of_mass(res.positions)[late, 0], 1)[0]) / length
     return Realization(seed, paper_time(scene, tau), x_tau / length, tau_s, x_s / length, v)
+
+
+def realization_member(scene, equilibrium, seed, duration=25000.0, slide_threshold=0.02):
+    """:func:`run_realization` as a dict of arrays: an ensemble member (fricstab.ensemble)."""
+    r = run_realization(scene, equilibrium, seed, duration=duration,
+                        slide_threshold=slide_threshold)
+    return {"seed": r.seed, "tau": r.tau, "x_tau": r.x_tau, "tau_slide": r.tau_slide,
+            "x_slide": r.x_slide, "v_com": r.v_com}
+
+
+def realization_from_arrays(d):
+    """The :class:`Realization` of a stored member dict (see :func:`realization_member`)."""
+    return Realization(int(d["seed"]), d["tau"], d["x_tau"], d["tau_slide"], d["x_slide"],
+                       float(d["v_com"]))
 
 
 def first_slide(scene, t, positions, q_eq, threshold=0.02):

@@ -191,7 +191,7 @@ def test_chain_cli_waves(tmp_path):
     from fricstab.cli import main
     out = tmp_path / "waves"
     assert main(["chain", "waves", "--fx", "0.09", "--realizations", "2", "--duration", "12000",
-                 "--out", str(out), "--no-progress"]) == 0
+                 "--scheduler", "inline", "--out", str(out), "--no-progress"]) == 0
     doc = json.loads((out / "waves.json").read_text())
     (res,) = doc["results"]
     assert res["fx"] == 0.09 and res["growth_rate"] > 0 and np.isfinite(res["v1"])

@@ -1,0 +1,73 @@
+"""``fricstab shear analyze|export`` and the Jacobian before each slip (fricstab.shear_slips)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from fricstab.cli import main
+from fricstab.shear_slips import CAP_REL, on_slide_branch
+
+SMALL = ["--n", "40", "--strain", "0.01", "--dgamma", "1e-5", "--gamma0", "0.002"]
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("shear") / "run"
+    assert main(["shear", "run", "--out", str(out), "--quiet", "--no-progress", *SMALL]) == 0
+    assert main(["shear", "analyze", "--out", str(out), "--no-progress"]) == 0
+    return out
+
+
+def test_histories_on_a_cap_are_put_on_the_slide_branch():
+    fn = np.array([1.0, 1.0, 1.0, 0.0])
+    ft = np.array([0.5, -0.5 * (1 - CAP_REL / 2), 0.3, 0.0])   # cap mu_s fn = 0.5
+    mr = np.array([0.0, 0.0, 0.01 * 0.5, 0.0])                # cap mu_r R_r fn = 0.005
+    r = np.ones(4)
+    ft2, mr2, sl, ro = on_slide_branch(ft, mr, fn, r, r, 0.5, 0.01)
+    assert sl.tolist() == [True, True, False, False]
+    assert ro.tolist() == [False, False, True, False]
+    # moved just outside the cap, sign kept; the inputs are untouched
+    assert ft2[0] == 0.5 * (1 + CAP_REL) and ft2[1] == -0.5 * (1 + CAP_REL)
+    assert mr2[2] == 0.005 * (1 + CAP_REL) and ft[0] == 0.5
+
+
+def test_every_slip_gets_its_spectrum(run_dir):
+    rec = json.loads((run_dir / "analysis.json").read_text())
+    with np.load(run_dir / "analysis.npz") as z:
+        dtau, phases = z["phase_dtau_p"], z["phases"]
+        frame, pairs = z["slip_frame"], z["slip_n_complex_pairs"]
+        growth, dtau_s = z["slip_max_growth_rate"], z["slip_dtau_p"]
+    slips = dtau < 0
+    assert slips.sum() > 0, "the small run shows no slip; lengthen SMALL"
+    assert rec["slip_spectra"]["n_slips"] == slips.sum() == len(frame)
+    # the stick state is the frame before the slip's first step, where tau peaked
+    np.testing.assert_array_equal(frame, phases[slips, 0] - 1)
+    np.testing.assert_array_equal(dtau_s, dtau[slips])
+    assert (pairs >= 0).all() and np.isfinite(growth).all() and (growth >= 0).all()
+    corr = rec["slip_spectra"]["correlations_with_following_dtau_p"]["all"]
+    assert set(corr) == {"n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue"}
+    text = (run_dir / "analysis.md").read_text()
+    assert "Fig. 9b" in text and "Jacobian before each slip" in text
+    for png in ("analysis_stress_strain.png", "analysis_slip_spectra.png"):
+        assert (run_dir / png).stat().st_size > 1000
+
+
+def test_export_loads_in_ovito(run_dir, capsys):
+    ovito_io = pytest.importorskip("ovito.io")
+    assert main(["shear", "export", "--out", str(run_dir), "--every", "100"]) == 0
+    assert main(["shear", "export", "--out", str(run_dir)]) == 2      # exists, no --force
+    assert "--force" in capsys.readouterr().err
+    pipe = ovito_io.import_file(str(run_dir / "frames.xyz"))
+    with np.load(run_dir / "shear.npz") as z:
+        n_frames = len(z["tau"])
+    assert pipe.source.num_frames == len(range(0, n_frames, 100))
+    data = pipe.compute(0)
+    rec = json.loads((run_dir / "shear.json").read_text())
+    assert data.particles.count == rec["derived"]["n_particles"]
+
+
+def test_analyze_without_a_run_is_bad_input(tmp_path, capsys):
+    assert main(["shear", "analyze", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "shear.json" in err and err.strip().count("\n") == 0
