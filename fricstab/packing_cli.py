@@ -66,6 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from fricstab.chain_io import atomic_write
+from fricstab.results import json_clean
 from fricstab.laws import ParameterError
 from fricstab.packing_figures import dos_figure, packing_figure, rigidity_figure
 from fricstab.packing import make_packing
@@ -281,28 +282,18 @@ def _show_progress(ns):
 
 # ------------------------------------------------------------------ helpers
 
-def _clean(obj):
-    """JSON-safe: numpy scalars to Python, nan/inf to None."""
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, complex):
-        return [_clean(obj.real), _clean(obj.imag)]
-    return obj
-
-
 def _write_json(path, doc):
-    text = json.dumps(_clean(doc), indent=2, allow_nan=False) + "\n"
+    text = json.dumps(json_clean(doc), indent=2, allow_nan=False) + "\n"
     atomic_write(path, lambda tmp: Path(tmp).write_text(text))
+
+
+def _write_record(out, name, doc):
+    """The record ``<name>.json`` (provenance included by :func:`_meta`), then ``result.json``."""
+    from fricstab.results import update_index
+    doc.setdefault("protocol", name)
+    doc.setdefault("parameters", doc.get("resolved_parameters"))
+    _write_json(out / f"{name}.json", doc)
+    update_index(out, name, json_clean(doc))
 
 
 def _write_npy(path, array):
@@ -329,7 +320,7 @@ def _meta(argv, seconds, seed=None, params=None):
 
 
 def _dry_run(params):
-    print(json.dumps(_clean(params), indent=2, allow_nan=False))
+    print(json.dumps(json_clean(params), indent=2, allow_nan=False))
     return 0
 
 
@@ -408,7 +399,7 @@ def _make(ns, argv):
     atomic_write(out / "packing.png",
                  lambda tmp: packing_figure(packing, net, force, rattler, tmp))
     doc.update(_meta(argv, time.perf_counter() - t0, params["seed"], params))
-    _write_json(out / "packing.json", doc)
+    _write_record(out, "packing", doc)
     print(f"packing N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
           f"L = {packing.box:.6g}, {net.m} contacts, {doc['rattlers']} rattlers (Z <= "
           f"{params['z_th']}), backbone Z = {doc['mean_contact_number_backbone']:.4f}, "
@@ -513,7 +504,7 @@ def _rigidity(ns, argv):
         doc["make"] = {k: params[k] for k in MAKE_KEYS}
     atomic_write(out / "rigidity.png", lambda tmp: rigidity_figure(results, first, tmp))
     doc.update(_meta(argv, time.perf_counter() - t0, params["seed"], params))
-    _write_json(out / "rigidity.json", doc)
+    _write_record(out, "rigidity", doc)
     print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, "
           f"L = {packing.box:.6g}; dgamma = {params['dgamma']:g}")
     print(f"{'kt':>8s} {'G_A':>12s} {'G_NA':>12s} {'G solve':>12s} {'G modes':>12s} "
@@ -617,7 +608,7 @@ def _dos(ns, argv):
     atomic_write(out / "dos.npz", npz)
     atomic_write(out / "dos.png", lambda tmp: dos_figure(spectra, edges, tmp))
     doc.update(_meta(argv, time.perf_counter() - t0, params["seed"], params))
-    _write_json(out / "dos.json", doc)
+    _write_record(out, "dos", doc)
     print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}; "
           f"{params['bins']} log bins in omega [{edges[0]:.3g}, {edges[-1]:.3g}]")
     for e in per_kt:

@@ -3,7 +3,9 @@
 A run writes into its ``--out`` directory: arrays as NPZ/NPY, figures as PNG,
 and last the *record* ``<protocol>.json`` (e.g. ``dynamics.json``), whose
 presence marks a complete result.  Several protocols may share one directory
-(``packing make``, ``rigidity``, ``dos``), hence one record per protocol.
+(``packing make``, ``rigidity``, ``dos``), hence one record per protocol, and
+``result.json``, rewritten after each record, holds them all:
+``{"protocols": [...], "records": {protocol: record}}``.
 
 Every file is written atomically: into a temporary file in the same
 directory, then ``os.replace`` onto its name, so an interrupted run leaves a
@@ -39,10 +41,12 @@ from fricstab import __version__
 from fricstab.chain_io import atomic_write
 from fricstab.laws import ParameterError
 
-__all__ = ["ResultDir", "add_run_options", "git_revision", "json_clean", "provenance",
-           "versions", "write_json"]
+__all__ = ["INDEX", "ResultDir", "add_run_options", "git_revision", "json_clean", "provenance",
+           "update_index", "versions", "write_json"]
 
 RECORD_VERSION = 1
+#: The directory's index of records (see :func:`_update_index`).
+INDEX = "result.json"
 _PACKAGES = ("numpy", "scipy", "numba", "sympy", "dask", "distributed", "matplotlib", "tqdm")
 
 
@@ -213,7 +217,30 @@ class ResultDir:
         doc.update(provenance(self.name, parameters, seed, self.timings, argv, self._started))
         doc["seconds"] = round(time.perf_counter() - self._t0, 3)
         write_json(self.record, doc)
+        update_index(self.path, self.name, doc)
         return doc
+
+
+def update_index(path, name, doc):
+    """``result.json``: every protocol record of the directory, keyed by protocol.
+
+    Written after the record, atomically; an unreadable old index is rebuilt
+    from the records on disk, so it never loses a finished result.
+    """
+    index_path = Path(path) / INDEX
+    records = {}
+    for f in sorted(Path(path).glob("*.json")):
+        if f.name == INDEX:
+            continue
+        try:
+            rec = json.loads(f.read_text())
+        except (OSError, ValueError):
+            continue
+        if isinstance(rec, dict) and rec.get("protocol") == f.stem:
+            records[f.stem] = rec
+    records[name] = doc
+    write_json(index_path, {"index_version": RECORD_VERSION, "protocols": sorted(records),
+                            "records": records})
 
 
 def _check_out_path(path):
@@ -233,7 +260,8 @@ def _check_out_path(path):
     return
 
 
-def add_run_options(parser, *, seed=True, checkpoints=False, scene=True, seed_default=0):
+def add_run_options(parser, *, seed=True, checkpoints=False, scene=True, seed_default=0,
+                    checkpoint_unit="steps"):
     """The options every protocol shares (see README, "Command line and scene files")."""
     from pathlib import Path as _P
     if scene:
@@ -254,9 +282,11 @@ def add_run_options(parser, *, seed=True, checkpoints=False, scene=True, seed_de
                         help="validate and resolve every parameter, print them as JSON, "
                              "write nothing")
     if checkpoints:
-        parser.add_argument("--checkpoint-every", type=_steps, default=None, metavar="STEPS",
-                            help="save a checkpoint every STEPS steps (cost: one small file "
-                                 "write each time; default: see the command)")
+        parser.add_argument("--checkpoint-every", type=_steps, default=None,
+                            metavar=checkpoint_unit.upper(),
+                            help=f"save a checkpoint every K {checkpoint_unit} (cost: one "
+                                 "file write each time; a kill loses at most K "
+                                 f"{checkpoint_unit}; default: see the command)")
         parser.add_argument("--resume", action="store_true",
                             help="continue from the last checkpoint in --out")
     return parser

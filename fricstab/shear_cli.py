@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from fricstab.laws import ParameterError
-from fricstab.shear import SCHEMA  # noqa: F401  (registers the scene 'shear')
+from fricstab.shear import SCHEMA  # registers the scene 'shear'; options come from it
 
 __all__ = ["add_parser", "run", "run_shear", "QUICK", "PAPER", "frames_of"]
 
@@ -47,9 +47,21 @@ QUICK = {"n": 300, "inertial_number": 1e-4, "kappa": 1e3, "strain": 0.06, "dgamm
          "gamma0": 0.022, "checkpoint_every": 500}
 PAPER = {}
 PRESETS = {"quick": QUICK, "paper": PAPER}
-_OPTIONS = (("n", int), ("mu_s", float), ("mu_r", float), ("strain", float),
-            ("dgamma", float), ("inertial_number", float), ("kappa", float),
-            ("gamma0", float), ("dt_frac", float))
+#: What each scene key trades, shown by ``fricstab shear run --help``.
+TRADES = {
+    "n": "cost ~ n per step; tau fluctuations shrink with n (Sec. 5)",
+    "strain": "cost ~ strain; more phases for the statistics",
+    "dgamma": "output interval: finer resolves short phases, costs disk and analysis time",
+    "inertial_number": "steps per strain ~ 1/I; I << 1e-3 keeps the shear quasi-static",
+    "kappa": "steps per strain ~ sqrt(kappa); larger is stiffer, closer to rigid grains",
+    "dt_frac": "steps ~ 1/dt_frac; 0.3 already breaks the servo (README table)",
+    "skin": "larger: fewer list rebuilds, more pairs per step",
+    "servo_gain": "larger: N held tighter, until the servo oscillates",
+    "prep_tol": "looser: shorter preparation, less settled start",
+    "prep_ke": "looser: shorter preparation, less settled start",
+}
+_SKIP = ("seed", "checkpoint_every")   # options of add_run_options
+_TYPES = {"int": int, "float": float, "str": str}
 EXIT_NUMERICAL = 4
 
 
@@ -63,14 +75,18 @@ def add_parser(sub, parser_class, positive_float):
                          parser_class=parser_class)
     s.required = True
     r = s.add_parser("run", help="prepare and shear the cell; frames, tau(strain)")
-    add_run_options(r, seed=False, checkpoints=True)
+    add_run_options(r, seed=False, checkpoints=True, checkpoint_unit="frames")
     r.add_argument("--preset", choices=tuple(PRESETS), default="quick",
                    help="base parameters below the scene file: quick (default; minutes) or "
                         "paper (Sec. 2; hours)")
     r.add_argument("--seed", type=int, default=None, help="seed (default 0)")
-    for key, typ in _OPTIONS:
-        r.add_argument("--" + key.replace("_", "-"), type=typ, default=None,
-                       help=f"scene key {key} (see `fricstab scene show shear`)")
+    for f in SCHEMA.fields:
+        if f.key in _SKIP:
+            continue
+        trade = f"; trade: {TRADES[f.key]}" if f.key in TRADES else ""
+        r.add_argument(f.option, dest=f.key, type=_TYPES[f.type], default=None,
+                       metavar=f.type.upper(),
+                       help=f"{f.doc} [{f.unit}] (--preset paper: {f.default:g}){trade}")
     a = s.add_parser("analyze", help="D2min, GR regions, phases, Spearman tables of a run")
     a.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
     a.add_argument("--gamma0", type=float, default=None,
@@ -259,7 +275,7 @@ def run_shear(params, out, *, resume=False, force=False, progress=False, argv=No
 
 def _run(ns, argv):
     import json
-    overrides = {k: getattr(ns, k) for k, _ in _OPTIONS}
+    overrides = {f.key: getattr(ns, f.key) for f in SCHEMA.fields if f.key not in _SKIP}
     overrides["seed"] = ns.seed
     params = resolve_params(ns.scene, ns.preset, overrides)
     if ns.checkpoint_every is not None:

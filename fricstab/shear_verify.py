@@ -43,22 +43,18 @@ import numpy as np
 
 from fricstab._numerics import contact_halfwidth, overlap_correction
 from fricstab.generated import lee_hurley as _gen
-from fricstab.verify import row_relative_error
+from fricstab.verify import (  # the bounds and steps of the kernel proofs, shared
+    CENTRAL_BOUND, COMPLEX_STEP, EPS, EXACT_BOUND, MP_DPS, MP_STEP, ROUNDING_ULPS,
+    TAYLOR_STEPS, row_relative_error)
 
-__all__ = ["EXTREMES", "REGIMES", "ShearCase", "case_inputs", "complex_step_jacobian",
+__all__ = ["EXTREMES", "failures", "REGIMES", "ShearCase", "case_inputs", "complex_step_jacobian",
            "central_jacobian", "central_resolvable", "exact_bound", "generated_jacobian", "lai_kt",
            "mp_central_jacobian", "reference_increment", "sample_cases", "taylor_slope",
            "verify_case", "verify_cases", "main"]
 
-EPS = float(np.finfo(float).eps)
-MP_DPS = 50
-COMPLEX_STEP = 1e-20
-MP_STEP = 1e-20
+#: Central-difference steps, times the column length: 1e-1 down to 1e-12 (the
+#: other laws go down to 1e-14).
 CENTRAL_STEPS = tuple(10.0 ** (-k / 2) for k in range(2, 25))
-TAYLOR_STEPS = tuple(10.0 ** (-k) for k in range(3, 9))
-CENTRAL_BOUND = 1e-6
-EXACT_BOUND = 1e-12
-ROUNDING_ULPS = 64
 
 #: Ranges of the configuration space (ends sampled exactly).  The overlap is
 #: relative to the smaller radius; Lai's k_t fit stays positive to
@@ -452,10 +448,14 @@ def main(argv=None):
     if ns.json:
         with open(ns.json, "w") as fh:
             fh.write(text + "\n")
-    bad = sum(s["nonfinite"] + s["complex_step_above_bound"] + s["central_mp50_above_bound"]
-              + s["central_above_1e-6"] + (s["taylor_slope_min"] < 1.9)
-              for s in report["regimes"].values())
-    return 3 if bad else 0
+    return 3 if failures(report) else 0
+
+
+def failures(report):
+    """Count of regime checks above their bounds in a :func:`verify_cases` report."""
+    return sum(s["nonfinite"] + s["complex_step_above_bound"] + s["central_mp50_above_bound"]
+               + s["central_above_1e-6"] + (s["taylor_slope_min"] < 1.9)
+               for s in report["regimes"].values())
 
 
 if __name__ == "__main__":

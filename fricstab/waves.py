@@ -20,6 +20,8 @@ Definitions (paper units: length 2R, time sqrt(m 2R / kn)):
 
 from dataclasses import dataclass
 
+import warnings
+
 import numpy as np
 
 from fricstab.chain import initial_state
@@ -124,11 +126,11 @@ def wave_figure(all_reals, path):
 
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 8))
     for fx, reals in all_reals.items():
-        dt = np.nanmean([r.tau - r.tau[0] for r in reals], axis=0)
-        dx = np.nanmean([r.x_tau - r.x_tau[0] for r in reals], axis=0)
+        dt = _nanmean([r.tau - r.tau[0] for r in reals])
+        dx = _nanmean([r.x_tau - r.x_tau[0] for r in reals])
         top.plot(dt, dx, "o-", label=f"F_x = {fx}")
-        dts = np.nanmean([r.tau_slide - r.tau_slide[-1] for r in reals], axis=0)
-        dxs = np.nanmean([r.x_slide - r.x_slide[-1] for r in reals], axis=0)
+        dts = _nanmean([r.tau_slide - r.tau_slide[-1] for r in reals])
+        dxs = _nanmean([r.x_slide - r.x_slide[-1] for r in reals])
         bottom.plot(dts, dxs, "o-", label=f"F_x = {fx}")
     top.set_xlabel("tau - tau_1 (paper units)")
     top.set_ylabel("x(tau) - x_1 (2R)")
@@ -143,10 +145,23 @@ def wave_figure(all_reals, path):
     plt.close(fig)
 
 
+def _nanmean(values):
+    """Mean over realizations ignoring NaN; NaN (no warning) where no realization has a value.
+
+    A disk that never breaches (or never slides) in any realization has no
+    time: its mean is NaN and the fit below leaves it out; with fewer than
+    three such disks the speed is NaN, reported as ``null`` with the number of
+    breaching realizations next to it.
+    """
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", "Mean of empty slice", RuntimeWarning)
+        return np.nanmean(values, axis=0)
+
+
 def _fit(reals, pick):
     """Slope of the realization-averaged (dt, dx) of the disks, see module doc."""
     dts, dxs = zip(*(pick(r) for r in reals))
-    dt, dx = np.nanmean(dts, axis=0), np.nanmean(dxs, axis=0)
+    dt, dx = _nanmean(dts), _nanmean(dxs)
     ok = np.isfinite(dt) & np.isfinite(dx)
     if ok.sum() < 3 or np.ptp(dt[ok]) == 0:
         return np.nan
@@ -172,6 +187,9 @@ def fit_waves(reals, n_boot=400, seed=0):
         boot2.append(_fit(sample, _backward))
     vcom = np.array([r.v_com for r in reals])
     breached = np.mean([np.isfinite(r.tau).mean() for r in reals])
-    return WaveFit(v1, float(np.nanstd(boot1)), v2, float(np.nanstd(boot2)),
+    with warnings.catch_warnings():   # all bootstrap fits NaN: no wave, the error is NaN too
+        warnings.filterwarnings("ignore", "Degrees of freedom <= 0", RuntimeWarning)
+        e1, e2 = float(np.nanstd(boot1)), float(np.nanstd(boot2))
+    return WaveFit(v1, e1, v2, e2,
                    float(vcom.mean()), float(vcom.std(ddof=1) / np.sqrt(len(vcom))),
                    len(reals), float(breached))

@@ -28,6 +28,7 @@ the SHA-256 of the law's symbolic expressions.
 
 import argparse
 import hashlib
+import re
 import sys
 from pathlib import Path
 
@@ -320,11 +321,16 @@ def _capped_prologue(law, zero_lines, caps=True, domain=True):
 def _capped_function(name, args, doc, exprs, targets, law, zero_lines, caps=True, extra=(),
                      domain=True):
     body, _ = _body(exprs, targets)
+    code = _capped_prologue(law, zero_lines, caps, domain) + list(body) + list(extra)
+    # Drop prologue names this function never reads (e.g. the branch flags in
+    # the force kernel): dead assignments, and lint noise in generated code.
+    for var in ("nx", "ny", "hw", *(str(c) for c in law.slides)):
+        assign = re.compile(rf"^\s*{var} = ")
+        read = re.compile(rf"\b{var}\b")
+        if not any(read.search(ln) for ln in code if not assign.match(ln)):
+            code = [ln for ln in code if not assign.match(ln)]
     out = ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
-    out += ["    " + ln for ln in _capped_prologue(law, zero_lines, caps, domain)]
-    out += ["    " + b for b in body]
-    out += ["    " + e for e in extra]
-    return out
+    return out + ["    " + ln for ln in code]
 
 
 def generate_capped_law(law):
@@ -406,7 +412,7 @@ def generate_capped_law(law):
 
 
 _CAPPED_SUFFIXES = ("_force", "_force_jacobian", "_increment", "_contact", "_assemble")
-CAPPED_TEMPLATE_VERSION = "1"
+CAPPED_TEMPLATE_VERSION = "2"
 
 
 def render_all():

@@ -39,7 +39,7 @@ def test_transverse_frequency_in_paper_units(rest):
 
 
 def _smallest_overlap(scene, state):
-    q, n = state.q, scene.n
+    q = state.q
     dx = q[:, 0] - np.roll(q[:, 0], -1)
     dx[-1] -= scene.period
     pair = 2 * scene.radius - np.hypot(dx, q[:, 1] - np.roll(q[:, 1], -1))

@@ -31,6 +31,7 @@ OK_CODES = {0, 2, 3, 4}
 
 COMMANDS = [["chain", "ramp"], ["chain", "jacobian"], ["chain", "dynamics"], ["chain", "waves"],
             ["packing", "make"], ["packing", "rigidity"], ["packing", "dos"],
+            ["shear", "run"], ["shear", "analyze"], ["shear", "export"], ["shear"],
             ["scene", "show"], ["scene", "list"], ["laws"], ["verify"], ["chain"], [],
             ["frobnicate"], ["packing", "melt"]]
 OPTIONS = ["--n", "--fy", "--mu", "--inertia", "--step", "--fx", "--fx-max", "--tol",
@@ -38,7 +39,9 @@ OPTIONS = ["--n", "--fy", "--mu", "--inertia", "--step", "--fx", "--fx-max", "--
            "--realizations", "--slide-threshold", "--scheduler", "--workers", "--phi",
            "--dphi", "--f-tol", "--kt", "--dgamma", "--z-th", "--route", "--bins", "--modes",
            "--packing", "--force", "--resume", "--quiet", "--cases", "--law", "--frobnicate",
-           "--help", "-h", "--version", "--debug", "--"]
+           "--help", "-h", "--version", "--debug", "--",
+           "--mu-s", "--mu-r", "--strain", "--inertial-number", "--kappa", "--gamma0",
+           "--dt-frac", "--preset", "--format", "--every", "--no-spectra"]
 
 texts = st.one_of(
     st.sampled_from(["0", "1", "-1", "2", "3", "4", "16", "0.5", "1e-3", "1e308", "-1e308",
@@ -68,11 +71,11 @@ def scene_texts(draw):
         return draw(st.binary(max_size=40))
     if kind == "garbage":
         return draw(st.text(max_size=60)).encode("utf-8", "surrogatepass")
-    scene = draw(st.sampled_from(["chain", "packing"]))
+    scene = draw(st.sampled_from(["chain", "packing", "shear"]))
     keys = list(get(scene).keys) + ["friction", "n_disks", "[x]", "chain", "packing", "\u00fc"]
     lines = []
     if draw(st.booleans()):
-        lines.append(f"[{draw(st.sampled_from(['chain', 'packing', 'other']))}]")
+        lines.append(f"[{draw(st.sampled_from(['chain', 'packing', 'shear', 'other']))}]")
     for key in draw(st.lists(st.sampled_from(keys), max_size=4, unique=True)):
         lines.append(f"{key} = {draw(toml_values)}")
     return ("\n".join(lines) + "\n").encode("utf-8", "surrogatepass")
@@ -102,7 +105,7 @@ def _check(rc, out, err, argv):
     assert rc in OK_CODES or (rc == 0 and ("--help" in argv or "-h" in argv)), (argv, rc, err)
     if rc == 2:
         assert err.startswith("fricstab: error:") and err.count("\n") == 1, (argv, err)
-    protocol = argv[:1] in (["chain"], ["packing"])
+    protocol = argv[:1] in (["chain"], ["packing"], ["shear"])
     silent = {"--help", "-h", "--version", "--quiet"} & set(argv)
     if rc == 0 and protocol and "--dry-run" in argv and not silent:
         json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
@@ -148,13 +151,19 @@ def test_tiny_real_runs_succeed_or_fail_numerically(cmd, n, fx, fy, mu, duration
 
 
 @FUZZ
-@given(key=st.sampled_from(["n", "fy", "mu", "kn", "radius", "mass", "inertia", "kt"]),
+@given(scene_key=st.sampled_from(
+           [("chain", k) for k in ("n", "fy", "mu", "kn", "radius", "mass", "inertia", "kt")]
+           + [("shear", k) for k in ("n", "mu_s", "mu_r", "E", "nu", "kappa",
+                                     "inertial_number", "dgamma")]),
        value=st.sampled_from(["-1", "0", "nan", "inf", '"x"', "[1]", "true", "1e999"]))
-def test_a_bad_scene_value_is_named(key, value):
+def test_a_bad_scene_value_is_named(scene_key, value):
+    scene, key = scene_key
+    if scene == "shear" and value == "0" and key == "mu_r":
+        return                      # mu_r = 0 is allowed (no rolling resistance)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "s.toml"
-        path.write_text(f"[chain]\n{key} = {value}\n")
-        argv = ["chain", "ramp", "--scene", str(path), "--out", str(Path(tmp) / "o"),
-                "--dry-run"]
+        path.write_text(f"[{scene}]\n{key} = {value}\n")
+        argv = [scene, "ramp" if scene == "chain" else "run", "--scene", str(path),
+                "--out", str(Path(tmp) / "o"), "--dry-run"]
         rc, out, err = _run(argv)
         assert rc == 2 and f"'{key}'" in err and "allowed:" in err and "\n" not in err[:-1]

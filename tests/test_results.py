@@ -79,3 +79,19 @@ def test_internal_error_is_one_line_and_logged(tmp_path, capsys, monkeypatch):
     assert "Traceback" in (tmp_path / "o" / "fricstab-error.log").read_text()
     assert main(["--debug", "chain", "ramp", "--out", str(tmp_path / "o")]) == 70
     assert "Traceback" in capsys.readouterr().err          # --debug shows it
+
+
+def test_result_json_indexes_every_protocol_of_the_directory(tmp_path):
+    for name, seed in (("make", 1), ("dos", 2)):
+        rd = ResultDir(tmp_path, name).create()
+        with rd.stage("work"):
+            pass
+        rd.finish({"value": seed}, parameters={"n": seed}, seed=seed)
+    (tmp_path / "result.json").write_text("{truncated")      # a damaged index is rebuilt
+    rd = ResultDir(tmp_path, "rigidity").create()
+    rd.finish({"value": 3}, parameters={"n": 3}, seed=3)
+    index = json.loads((tmp_path / "result.json").read_text())
+    assert index["protocols"] == ["dos", "make", "rigidity"]
+    for name, rec in index["records"].items():
+        assert rec == json.loads((tmp_path / f"{name}.json").read_text())
+        assert {"versions", "seed", "parameters", "timings"} <= rec.keys()

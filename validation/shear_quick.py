@@ -7,8 +7,14 @@ from the paper and its effect) and writes ``validation/shear_quick.md`` and
 42,000 phases in about 130,000 output steps for mu_s = 0.7 (0.32 phases per
 step); 18,000 / 46,000 / 52,000 / 42,000 for mu_s = 0.1 / 0.3 / 0.5 / 0.7.
 
-Usage: ``python validation/shear_quick.py [OUT_DIR]`` (default: a temporary
-folder; the run's files stay there).
+Then analyses the run (:func:`fricstab.shear_analysis.analyze`) and computes
+the Jacobian spectrum before every slip (:mod:`fricstab.shear_slips`),
+adding the phase statistics, the slip-spectrum statistics and the Spearman
+tables to the markdown.
+
+Usage: ``python validation/shear_quick.py [OUT_DIR] [--reuse]`` (default: a
+temporary folder; the run's files stay there; ``--reuse`` analyses an existing
+run of the same parameters in OUT_DIR instead of running again).
 """
 
 import json
@@ -18,18 +24,30 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # run from anywhere without installing
 PAPER_PHASES_PER_STEP = 42_000 / 130_000
 
 
-def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_quick.png"):
+def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_quick.png",
+         reuse=False):
     from fricstab.shear_cli import resolve_params, run_shear
     out = Path(out or tempfile.mkdtemp(prefix="shear_quick_"))
     p = resolve_params(None, "quick", params or {})
     t0 = time.perf_counter()
-    rec = run_shear(p, out, force=True, argv=["validation/shear_quick.py"])
-    wall = time.perf_counter() - t0
+    if reuse and (out / "shear.json").is_file():
+        rec = json.loads((out / "shear.json").read_text())
+        if rec["parameters"] != json.loads(json.dumps(p)):
+            raise SystemExit(f"--reuse: {out} was run with other parameters")
+        wall = sum(t["wall_s"] for t in rec["timings"].values())
+    else:
+        rec = run_shear(p, out, force=True, argv=["validation/shear_quick.py"])
+        wall = time.perf_counter() - t0
+    t1 = time.perf_counter()
+    an = _analyze(out, p)
+    t_an = time.perf_counter() - t1
     ph, sv, d = rec["phases"], rec["servo"], rec["derived"]
     thr = rec["throughput_particle_steps_per_s"]
     # cost of the paper run: 1,000 bulk disks (+ about 60 wall disks), 130,000
@@ -38,7 +56,6 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     from fricstab.shear import make_cell, Shear
     sim = Shear(make_cell(paper))
     sim.wall[1] = sim.cell.n_target
-    h0 = sim.height * 0.45 / 0.82   # dense height estimate from the placement fraction
     import math
     gdot = paper["inertial_number"] * math.sqrt(sim.cell.n_target / sim.cell.lx) / 2.0
     spf = math.ceil(paper["dgamma"] / (gdot * paper["dt_frac"] * sim.cell.t_c))
@@ -64,7 +81,12 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
         f"| paper-size run at this throughput | {paper_steps:.3g} steps x {len(sim.cell.radius)} disks = {paper_hours:.1f} h | - |",
         "", "Phases are counted with `fricstab.shear_analysis.find_phases` (a phase is a run "
         "of output steps with the same sign of d tau). The paper's count is for ~130,000 "
-        "output steps; compare the rate per output step. ",
+        "output steps; compare the rate per output step. ", "",
+        "## Analysis (`fricstab shear analyze`) and the Jacobian before every slip", "",
+        f"Analysis of the same run: {t_an:.0f} s (D2min, GR regions, phases, Spearman; then "
+        f"one dense spectrum per slip).", "",
+        "| quantity | this run |", "|---|---|",
+        *(f"| {k} | {v} |" for k, v in an["rows"]), "", an["tables"],
     ]
     md.write_text("\n".join(lines) + "\n")
     shutil.copyfile(out / "shear.png", png)
@@ -74,6 +96,44 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     return rec
 
 
+def _analyze(out, p):
+    """Lee & Hurley analyses of the run and the spectrum before each slip (rows, markdown)."""
+    from fricstab.shear_analysis import analyze, tables_markdown
+    from fricstab.shear_cli import frames_of
+    from fricstab.shear_slips import slip_spectra
+    frames = frames_of(out)
+    res = analyze(frames, p["gamma0"], progress=False)
+    sp = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], p)
+    s, c = res.summary, sp.summary()
+    corr = c["correlations_with_following_dtau_p"]["all"]
+
+    def cell(x):
+        return "n/a" if x["rho"] is None else f"{x['rho']:+.2f} (p = {x['p']:.1e}, n = {x['n']})"
+    rows = [("phases (stick / slip)", f"{s['n_phases']} ({s['n_stick']} / {s['n_slip']})"),
+            ("long phases (t_p > 3 dgamma)", f"{s['fraction_long']:.2f} of all"),
+            ("median / mean abs Delta tau_p of slips",
+             f"{s['slip_abs_dtau_median']:.2e} / {s['slip_abs_dtau_mean']:.2e}"),
+            ("slips with a spectrum (every slip)", f"{c['n_slips']} of {s['n_slip']}"),
+            ("slips whose stick state has complex pairs", f"{c['slips_with_complex_pairs']}"),
+            ("complex pairs per state: median / max",
+             f"{int(np.median(sp.n_complex_pairs))} / {c['n_complex_pairs_max']}"),
+            ("contacts on the slide branch per state: tangential / rolling (median)",
+             f"{int(np.median(sp.n_sliding))} / {int(np.median(sp.n_rolling))}"),
+            ("largest growth rate, median (1/s)", f"{c['max_growth_rate_median_per_s']:.3g}"),
+            ("Spearman(Delta tau_p, complex pairs)", cell(corr["n_complex_pairs"])),
+            ("Spearman(Delta tau_p, largest growth rate)", cell(corr["max_growth_rate"])),
+            ("Spearman(Delta tau_p, lowest real eigenvalue)", cell(corr["lowest_real_eigenvalue"]))]
+    t = res.tables
+    tables = tables_markdown({"Delta tau - gD2min, g_t10%D2min per step (Fig. 9a)": t["step_dtau"],
+                              "all phases (Fig. 9b)": t["phase_all"],
+                              "long phases (Fig. 10a)": t["phase_long"],
+                              "short phases (Fig. 10b)": t["phase_short"],
+                              "Delta tau_p - t_p (Fig. 10c)": t["phase_tp"]},
+                             "Spearman tables (struck through: p > 0.05)")
+    return {"rows": rows, "tables": tables}
+
+
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else None)
+    args = [a for a in sys.argv[1:] if a != "--reuse"]
+    main(args[0] if args else None, reuse="--reuse" in sys.argv[1:])
     print((HERE / "shear_quick.md").read_text())

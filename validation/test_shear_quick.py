@@ -24,7 +24,8 @@ def test_small_cell_shows_stick_slip(tmp_path):
     assert ph["n_stick"] >= 10 and ph["n_slip"] >= 10
     assert ph["largest_drop"] < -0.01
     assert abs(rec["servo"]["mean_rel_error"]) < 0.01
-    z = np.load(tmp_path / "shear.npz")
-    assert np.all(np.isfinite(z["tau"])) and len(z["tau"]) == 3001
+    with np.load(tmp_path / "shear.npz") as z:
+        tau = z["tau"]
+    assert np.all(np.isfinite(tau)) and len(tau) == 3001
     assert (tmp_path / "shear.png").stat().st_size > 1000
     assert json.loads((tmp_path / "shear.json").read_text())["parameters"]["n"] == 150

@@ -109,7 +109,12 @@ def _scene(n, seed=0, shear=0.0):
         pos[:, 0] += shear * pos[:, 1]
         p = replace(p, pos=pos)
     v = np.random.default_rng(seed + 1).normal(size=(p.n, 3)) * AMP
-    return p, v
+    # Both codes get the disks in the same spatial order (rows of cells of two
+    # large diameters, then x), so neighbours sit close in memory.  LAMMPS
+    # sorts its atoms this way by itself (atom_modify sort, every 1000 steps);
+    # our loop keeps the order it is given.  Worth ~10-20 % at N = 4,096.
+    order = np.lexsort((p.pos[:, 0], np.floor(p.pos[:, 1] / 2.0)))
+    return replace(p, pos=p.pos[order], diameter=p.diameter[order]), v[order]
 
 
 def _cached(n, seed):
