@@ -355,6 +355,19 @@ def _analysis_outputs(rd, frames, res, numbers, arrays):
     rd.write_png("analysis_steps.png", lambda path: sf.fig_step_panels(res, path))
     rd.write_png("analysis_spearman_phases.png",
                  lambda path: sf.fig_spearman_bins(t["phase_all"], path, "all phases"))
+    steps = res.summary.get("largest_drop_steps")
+    if steps:      # Figs. 3-7 at the first step of the largest slip
+        k = int(steps[0])
+        for name, draw in (("d2min", sf.fig_d2min_map), ("gr", sf.fig_gr_clusters),
+                           ("forces", sf.fig_force_network),
+                           ("dforces", sf.fig_differential_network),
+                           ("nonaffine", sf.fig_nonaffine)):
+            rd.write_png(f"analysis_map_{name}.png",
+                         lambda path, draw=draw: draw(frames, k, path))
+        rd.write_png("analysis_steps_largest_slip.png",
+                     lambda path: sf.fig_step_panels(res, path,
+                                                     (max(k - 20, 1), min(int(steps[1]) + 20,
+                                                                          frames.n_frames))))
     if sp:
         rd.write_png("analysis_slip_spectra.png",
                      lambda path: _spectra_figure(arrays, path))

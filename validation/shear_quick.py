@@ -64,7 +64,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     lines = [
         "# Plane shear, quick default: stick-slip (Lee & Hurley Sec. 3)", "",
         "Command: `python validation/shear_quick.py` (= `fricstab shear run --out DIR`, "
-        "preset quick). Measured on the 2-core machine while other jobs shared the CPU.", "",
+        "preset quick). Wall times: 2-core AMD EPYC, no other job running (rerun the script to measure yours).", "",
         "| quantity | this run | paper (mu_s = 0.7) |", "|---|---|---|",
         f"| bulk disks | {d['n_bulk']} | ~1,000 |",
         f"| I, kappa | {p['inertial_number']:g}, {p['kappa']:g} | 4e-6, 1e4 |",

@@ -56,6 +56,14 @@ def main(out=None):
             ("(g) Delta tau_p - sg_t10% D2min, long phases", "phase_long", "sg10")):
         rows = {f"mu_s = {m:g}": tables[m][section][series] for m in PAPER}
         lines.append(tables_markdown({title: rows}, title).split("\n", 2)[2])
+    from fricstab import shear_figures as sf
+    for tag, section, series, title in (
+            ("c", "phase_long", "mg10", "Delta tau_p - mg_t10% D2min, long phases (Fig. 13c)"),
+            ("g", "phase_long", "sg10", "Delta tau_p - sg_t10% D2min, long phases (Fig. 13g)")):
+        sf.fig_spearman_bins({f"mu_s = {m:g}": tables[m][section][series] for m in PAPER},
+                             HERE / f"shear_sweep_fig13{tag}.png", title)
+    lines += ["", "Figures: `shear_sweep_fig13c.png`, `shear_sweep_fig13g.png` (abs rho per "
+              "bin, only p <= 0.05 drawn)."]
     (HERE / "shear_sweep.md").write_text("\n".join(lines) + "\n")
     return res
 
