@@ -61,7 +61,9 @@ def asymmetry(dense):
 
 def spectrum(jac, route="auto", vectors=True):
     """Eigen-decomposition of ``jac`` (sparse or dense) by ``route``."""
+    from fricstab.guards import check_finite
     dense = jac.toarray() if hasattr(jac, "toarray") else np.asarray(jac)
+    check_finite("Jacobian entry", dense, item="row")   # LAPACK would refuse it unnamed
     asym = asymmetry(dense)
     if route == "auto":
         route = "symmetric" if asym <= 1e-12 else "dense"

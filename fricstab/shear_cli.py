@@ -46,7 +46,12 @@ __all__ = ["add_parser", "run", "run_shear", "QUICK", "PAPER", "frames_of"]
 QUICK = {"n": 300, "inertial_number": 1e-4, "kappa": 1e3, "strain": 0.06, "dgamma": 1e-5,
          "gamma0": 0.022, "checkpoint_every": 500}
 PAPER = {}
-PRESETS = {"quick": QUICK, "paper": PAPER}
+#: The larger cell of Sec. 5: radius in [0.2, 0.4] um, about 5,000 disks,
+#: output every 1.8e-6 of strain.  Steps per unit strain do not depend on the
+#: radius at fixed I and kappa (dt ~ r and gamma_dot ~ 1/r), so the cost per
+#: strain is about 5x that of ``paper`` (5x the disks).
+LARGE = {"n": 5000, "r_min": 0.2e-6, "r_max": 0.4e-6, "dgamma": 1.8e-6, "gamma0": 0.054}
+PRESETS = {"quick": QUICK, "paper": PAPER, "large": LARGE}
 #: What each scene key trades, shown by ``fricstab shear run --help``.
 TRADES = {
     "n": "cost ~ n per step; tau fluctuations shrink with n (Sec. 5)",
@@ -77,8 +82,8 @@ def add_parser(sub, parser_class, positive_float):
     r = s.add_parser("run", help="prepare and shear the cell; frames, tau(strain)")
     add_run_options(r, seed=False, checkpoints=True, checkpoint_unit="frames")
     r.add_argument("--preset", choices=tuple(PRESETS), default="quick",
-                   help="base parameters below the scene file: quick (default; minutes) or "
-                        "paper (Sec. 2; hours)")
+                   help="base parameters below the scene file: quick (default; minutes), "
+                        "paper (Sec. 2; hours) or large (Sec. 5, 5,000 disks; ~5x paper)")
     r.add_argument("--seed", type=int, default=None, help="seed (default 0)")
     for f in SCHEMA.fields:
         if f.key in _SKIP:

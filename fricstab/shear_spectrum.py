@@ -35,6 +35,7 @@ import scipy.linalg
 import scipy.sparse
 
 from fricstab.generated.lee_hurley import lee_hurley_assemble
+from fricstab.guards import check_finite
 from fricstab.laws import ParameterError
 
 __all__ = ["MAX_DENSE_DOF", "ShearSpectrum", "assemble_stiffness", "shear_spectrum"]
@@ -135,6 +136,7 @@ def shear_spectrum(pos, theta, radius, mass, inertia, mobile, contacts, ft, mr, 
                              f"(MAX_DENSE_DOF = {MAX_DENSE_DOF})")
     k, _ = assemble_stiffness(pos, radius, mobile, contacts, ft, mr, lx, E, nu, mus, mur)
     kd = k.toarray()
+    check_finite("stiffness entry", kd, item="row")     # LAPACK would refuse it unnamed
     big = np.abs(kd).max() if kd.size else 0.0
     symmetric = bool(np.abs(kd - kd.T).max() <= 1e3 * np.finfo(float).eps * big) if big else True
     minv = 1.0 / np.column_stack([mass, mass, inertia])[mobile].ravel()

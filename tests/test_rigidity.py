@@ -135,3 +135,11 @@ def test_bad_kt_is_rejected(bb):
             rigidity(bb, bad)
     with pytest.raises(ParameterError, match="dgamma"):
         step_strain(bb, 1.0, dgamma=0.0)
+
+
+def test_a_non_finite_jacobian_is_named_before_lapack():
+    from fricstab.guards import NumericalError
+    jac = np.eye(4)
+    jac[2, 1] = np.inf
+    with pytest.raises(NumericalError, match="Jacobian entry.*row 2"):
+        spectrum(jac)
