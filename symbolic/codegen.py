@@ -160,6 +160,14 @@ def _function(name, args, doc, exprs, targets, law, zero_lines):
     return out
 
 
+def _metadata(law, args):
+    """Module constants every generated law carries (read by fricstab.laws)."""
+    return [f"NAME = {law.name!r}", f"KIND = {law.kind!r}", f"INPUTS = {tuple(args)!r}",
+            f"COORDS = {law.coords!r}", f"OUTPUTS = {law.outputs!r}",
+            f"HISTORY = {tuple(str(h) for h in law.history)!r}",
+            f"COULOMB = {law.coulomb!r}"]
+
+
 def generate_law(law):
     """Source text of the generated module for one :class:`symbolic.laws.Law`."""
     args = [str(s) for s in law.inputs]
@@ -185,13 +193,7 @@ def generate_law(law):
         "",
         f"__all__ = [{', '.join(repr(law.name + s) for s in _suffixes(law))}]",
         "",
-        f"NAME = {law.name!r}",
-        f"KIND = {law.kind!r}",
-        f"INPUTS = {tuple(args)!r}",
-        f"COORDS = {law.coords!r}",
-        f"OUTPUTS = {law.outputs!r}",
-        f"HISTORY = {tuple(str(h) for h in law.history)!r}",
-        f"COULOMB = {law.coulomb!r}",
+        *_metadata(law, args),
         "",
         "",
     ]
@@ -364,13 +366,7 @@ def generate_capped_law(law):
         "",
         f"__all__ = [{', '.join(repr(law.name + s) for s in _CAPPED_SUFFIXES)}]",
         "",
-        f"NAME = {law.name!r}",
-        f"KIND = {law.kind!r}",
-        f"INPUTS = {tuple(args)!r}",
-        f"COORDS = {law.coords!r}",
-        f"OUTPUTS = {law.outputs!r}",
-        f"HISTORY = {tuple(str(h) for h in law.history)!r}",
-        f"COULOMB = {law.coulomb!r}",
+        *_metadata(law, args),
         f"CONTACT = {('delta', 'a', *names, *(str(c) for c in law.capped), 'sliding')!r}",
         "",
         "",
