@@ -66,7 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from fricstab.chain_io import atomic_write
-from fricstab.results import json_clean
+from fricstab.results import json_clean, write_json
 from fricstab.laws import ParameterError
 from fricstab.packing_figures import dos_figure, packing_figure, rigidity_figure
 from fricstab.packing import make_packing
@@ -282,17 +282,12 @@ def _show_progress(ns):
 
 # ------------------------------------------------------------------ helpers
 
-def _write_json(path, doc):
-    text = json.dumps(json_clean(doc), indent=2, allow_nan=False) + "\n"
-    atomic_write(path, lambda tmp: Path(tmp).write_text(text))
-
-
 def _write_record(out, name, doc):
     """The record ``<name>.json`` (provenance included by :func:`_meta`), then ``result.json``."""
     from fricstab.results import update_index
     doc.setdefault("protocol", name)
     doc.setdefault("parameters", doc.get("resolved_parameters"))
-    _write_json(out / f"{name}.json", doc)
+    write_json(out / f"{name}.json", doc)
     update_index(out, name, json_clean(doc))
 
 
@@ -475,7 +470,7 @@ def _rigidity(ns, argv):
             _write_npy(folder / "theta.npy", r.theta)
             _write_npy(folder / "u.npy", r.u)
             _write_npy(folder / "nonaffine_step.npy", s.nonaffine)
-            _write_json(folder / "g.json", {
+            write_json(folder / "g.json", {
                 "box": bb.box, "n": bb.n, "ndof": k, "kt": kt,
                 "ordering": "(x, y, l = d theta / 2) per particle" if k == 3
                             else "(x, y) per particle (frictionless Hessian)",

@@ -45,7 +45,7 @@ from fricstab._numerics import contact_halfwidth, overlap_correction
 from fricstab.generated import lee_hurley as _gen
 from fricstab.verify import (  # the bounds and steps of the kernel proofs, shared
     CENTRAL_BOUND, COMPLEX_STEP, EPS, EXACT_BOUND, MP_DPS, MP_STEP, ROUNDING_ULPS,
-    TAYLOR_STEPS, row_relative_error)
+    TAYLOR_STEPS, pick_extreme, row_relative_error)
 
 __all__ = ["EXTREMES", "failures", "REGIMES", "ShearCase", "case_inputs", "complex_step_jacobian",
            "central_jacobian", "central_resolvable", "exact_bound", "generated_jacobian", "lai_kt",
@@ -87,15 +87,7 @@ class ShearCase:
 
 
 def _pick(rng, key, p, log=True):
-    lo, hi = EXTREMES[key]
-    u = rng.uniform()
-    if u < p / 2:
-        return lo
-    if u < p:
-        return hi
-    if log and lo > 0:
-        return float(math.exp(rng.uniform(math.log(lo), math.log(hi))))
-    return float(rng.uniform(lo, hi))
+    return pick_extreme(rng, *EXTREMES[key], p, log)
 
 
 def _ratio(rng, slides, p):

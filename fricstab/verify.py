@@ -93,6 +93,17 @@ def _log_uniform(rng, lo, hi):
     return float(math.exp(rng.uniform(math.log(lo), math.log(hi))))
 
 
+def pick_extreme(rng, lo, hi, p, log=True):
+    """``lo`` or ``hi`` exactly, each with probability ``p/2``; else log-uniform
+    (uniform if ``log`` is false or ``lo <= 0``) in ``[lo, hi]``."""
+    u = rng.uniform()
+    if u < p / 2:
+        return lo
+    if u < p:
+        return hi
+    return _log_uniform(rng, lo, hi) if log and lo > 0 else float(rng.uniform(lo, hi))
+
+
 def sample_cases(n, seed, p_extreme=0.15, ranges=None):
     """``n`` cases from ``numpy.random.default_rng(seed)``.
 
@@ -107,13 +118,7 @@ def sample_cases(n, seed, p_extreme=0.15, ranges=None):
     cases = []
     for _ in range(n):
         def pick(key, log=True, p=p_extreme):
-            lo, hi = ranges[key]
-            u = rng.uniform()
-            if u < p / 2:
-                return lo
-            if u < p:
-                return hi
-            return _log_uniform(rng, lo, hi) if log else float(rng.uniform(lo, hi))
+            return pick_extreme(rng, *ranges[key], p, log)
         phi = float(rng.uniform(0.0, 2 * math.pi))
         # Half of the histories are tangent to the contact (as the increment
         # rule produces from t = 0), half point anywhere.

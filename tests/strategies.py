@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from fricstab.verify import EXTREMES, Case
 
-__all__ = ["cases", "directions"]
+__all__ = ["cases", "corrupt_jacobian", "directions"]
 
 
 def _ranged(key, log=True):
@@ -47,3 +47,19 @@ def directions(n):
     """A Taylor-test direction with n components in [-1, 1], not all tiny."""
     return st.lists(st.floats(-1.0, 1.0), min_size=n, max_size=n).filter(
         lambda v: max(abs(x) for x in v) > 0.1)
+
+
+def corrupt_jacobian(original):
+    """Wrap a verifier's ``_mp_function(..., which)``: its ``force_jacobian`` comes back
+    1e-3 (relative) too large, for mutation tests of the Taylor check."""
+    def corrupted(*key):
+        fn = original(*key)
+        if key[-1] != "force_jacobian":
+            return fn
+
+        def wrapped(*args):
+            *inputs, f, jac = args
+            fn(*inputs, f, jac)
+            jac *= 1.001
+        return wrapped
+    return corrupted

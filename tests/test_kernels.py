@@ -42,7 +42,7 @@ from fricstab.verify import (
     complex_step_jacobian, generated_jacobian, mp_central_jacobian, reference_increment,
     row_relative_error, taylor_consistent, taylor_slope, uncancelled_scale,
 )
-from tests.strategies import cases, directions
+from tests.strategies import cases, corrupt_jacobian, directions
 
 EPS = np.finfo(float).eps
 
@@ -291,20 +291,7 @@ def test_taylor_check_catches_a_wrong_jacobian(name, monkeypatch):
     """Mutation test: K off by 1e-3 (relative) must fail taylor_consistent."""
     import fricstab.verify as verify
 
-    original = verify._mp_function
-
-    def corrupted(law, which):
-        fn = original(law, which)
-        if which != "force_jacobian":
-            return fn
-
-        def wrapped(*args):
-            *inputs, f, jac = args
-            fn(*inputs, f, jac)
-            jac *= 1.001
-        return wrapped
-
-    monkeypatch.setattr(verify, "_mp_function", corrupted)
+    monkeypatch.setattr(verify, "_mp_function", corrupt_jacobian(verify._mp_function))
     law = get_law(name)
     case = Case(1e-3, 0.5, 0.7, 0.7 + math.pi / 2, 0.3, 2.0, 1.2)
     args = case_inputs(law, case)

@@ -33,6 +33,7 @@ from fricstab.shear_verify import (
     complex_step_jacobian, exact_bound, generated_jacobian, lai_kt, mp_central_jacobian,
     reference_increment, sample_cases, taylor_slope, verify_cases)
 from fricstab.verify import row_relative_error
+from tests.strategies import corrupt_jacobian
 
 EPS = np.finfo(float).eps
 
@@ -147,20 +148,7 @@ def test_taylor_remainder_is_second_order(case, direction):
 
 def test_taylor_check_catches_a_wrong_jacobian(monkeypatch):
     import fricstab.shear_verify as sv
-    original = sv._mp_function
-
-    def corrupted(which):
-        fn = original(which)
-        if which != "force_jacobian":
-            return fn
-
-        def wrapped(*args):
-            *inputs, f, jac = args
-            fn(*inputs, f, jac)
-            jac *= 1.001
-        return wrapped
-
-    monkeypatch.setattr(sv, "_mp_function", corrupted)
+    monkeypatch.setattr(sv, "_mp_function", corrupt_jacobian(sv._mp_function))
     case = ShearCase(1e-3, 1.3, 0.7, 0.2, 0.5, 0.01, 3.0, 0.3)
     slope, _ = sv.taylor_slope(case_inputs(case), np.linspace(-1, 1, 6) + 0.1)
     assert slope < 1.5
