@@ -1,0 +1,172 @@
+"""Regression cases: numbers pinned before the engine restructuring.
+
+Each case is a function returning ``{name: value}`` (a float or a list of
+floats).  ``pinned.json`` holds the values that the code before the
+restructuring ("One engine, composable scenes") computed, written by
+``python validation/regression/pin.py``; ``validation/test_regression.py``
+recomputes them with the current code and compares within the tolerance
+stated for each (``tolerances.py``, with the error model).
+
+Inputs that a chaotic protocol would not reproduce at round-off (a FIRE
+packing, a sheared state of the plane-shear cell) are stored as data files
+beside this module, so that a case measures the code under test and not the
+chaos of an earlier stage.  Only this module knows the API: when an import
+moves, the call changes here and the pinned values stay.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+PACKING = HERE / "packing256.npz"       # make_packing(256, 0.90, seed=0), pre-engine code
+SHEAR_STATE = HERE / "shear_state.npz"  # a stick state of a sheared 150-disk cell
+
+
+# ------------------------------------------------------------------ chain
+
+def chain_ramp():
+    """Every event of the default ramp (F_x to 0.1, step 1e-3, bisection 1e-6)."""
+    from fricstab.chain import ChainScene
+    from fricstab.ramp import run_ramp
+    res = run_ramp(ChainScene(), 0.1, 1e-3, tol=1e-6)
+    return {"event_fx": [e.fx for e in res.events],
+            "event_birth": [1.0 if e.kind == "birth" else 0.0 for e in res.events],
+            "growth_at_0.1": float(res.growth[-1])}
+
+
+def _ramped(fx):
+    from fricstab.chain import ChainScene
+    from fricstab.waves import ramped_equilibrium
+    return ramped_equilibrium(ChainScene(), fx)
+
+
+def chain_equilibrium():
+    """Newton equilibrium at F_x = 0.03 reached by the 1e-3 ramp, and its spectrum."""
+    from fricstab.chain import ChainScene, forces_and_jacobian, mass_vector
+    from fricstab.spectrum import decompose
+    scene = ChainScene().with_fx(0.03)
+    st = _ramped(0.03)
+    _, jac = forces_and_jacobian(scene, st)
+    w = decompose(jac, mass_vector(scene), vectors=False).eigenvalues
+    return {"q": st.q.ravel().tolist(), "t_wall": st.t_wall.tolist(),
+            "eig_real": w.real.tolist(), "eig_imag": np.abs(w.imag).tolist()}
+
+
+def chain_growth():
+    """Growth rate of the unstable mode at F_x = 0.03: Jacobian and dynamics."""
+    from fricstab.chain import ChainScene
+    from fricstab.growth import measure_growth
+    g = measure_growth(ChainScene().with_fx(0.03), _ramped(0.03))
+    return {"predicted": g.predicted, "measured": g.measured}
+
+
+def chain_transverse():
+    """Transverse frequency at F_x = 0 in the paper's units (Charan: 0.235)."""
+    from fricstab.chain import ChainScene
+    from fricstab.modes import transverse_mode
+    return {"omega": transverse_mode(ChainScene(), _ramped(0.0)).omega}
+
+
+# ------------------------------------------------------------------ packings
+
+def packing_make():
+    """make_packing at N = 64 and 256: contact count, box and positions."""
+    from fricstab.packing import find_contacts, make_packing
+    out = {}
+    for n in (64, 256):
+        p = make_packing(n, 0.90, seed=0)
+        pairs, _ = find_contacts(p.pos, p.radius, p.box)
+        out[f"contacts_{n}"] = float(len(pairs))
+        out[f"box_{n}"] = p.box
+        out[f"pos_{n}"] = p.pos.ravel().tolist()
+    return out
+
+
+def _backbone():
+    from fricstab.pack_system import backbone
+    from fricstab.packing import Packing
+    return backbone(Packing.load(PACKING))
+
+
+def packing_rigidity():
+    """G_A, G_NA (solve and mode sum) and step strain on the stored N = 256 packing."""
+    from fricstab.rigidity import rigidity
+    from fricstab.stepstrain import step_strain
+    bb = _backbone()
+    out = {"backbone_n": float(bb.n)}
+    for kt in (1e-4, 1.0, 10.0):
+        r = rigidity(bb, kt, modes=True)
+        s = step_strain(bb, kt, dgamma=1e-6)
+        out[f"g_a_{kt:g}"] = r.g_a
+        out[f"g_na_{kt:g}"] = r.g_na_solve
+        out[f"g_na_modes_{kt:g}"] = r.g_na_modes
+        out[f"g_step_{kt:g}"] = s.g
+        out[f"g_step_error_{kt:g}"] = s.error
+    out["g_frictionless"] = rigidity(bb, 0.0).g
+    return out
+
+
+def packing_dos():
+    """Rotational-peak exponent over kT/kN = 1e-8..1e-2 on the stored packing."""
+    from fricstab.dos import participation, rotational_peak, spectrum
+    from fricstab.rigidity import linear_response
+    bb = _backbone()
+    kts = np.array([1e-8, 1e-6, 1e-4, 1e-2])
+    med, low = [], []
+    for kt in kts:
+        jac, *_ = linear_response(bb, kt)
+        sp = spectrum(jac)
+        _, psi_r, _ = participation(sp.right, 3)
+        med.append(float(rotational_peak(sp.omega[2:], psi_r[2:])[1]))
+        low.append(float(np.sort(sp.omega)[2]))
+    slope = np.polyfit(np.log10(kts), np.log10(med), 1)[0]
+    return {"exponent": float(slope), "peak": med, "lowest_omega": low}
+
+
+def packing_dynamics():
+    """Newtonian DEM with history (kT/kN = 1) on the stored packing, kicked: 2,000 steps."""
+    from fricstab import pack_dynamics as pd
+    from fricstab.packing import Packing
+    p = Packing.load(PACKING)
+    rng = np.random.default_rng(1)
+    v = 1e-3 * rng.standard_normal((p.n, 3))
+    st = pd.init_state(p.pos, p.radius, p.box, 1.0, velocity=v)
+    e0 = pd.energy(st)
+    run = pd.run(st, 0.02, 2000)
+    return {"energy_start": e0, "energy_end": pd.energy(st), "rebuilds": float(run.rebuilds),
+            "q_end": st.q.ravel().tolist()}
+
+
+# ------------------------------------------------------------------ plane shear
+
+def shear_spectrum():
+    """Spectrum of the stored stick state (histories on a cap count as sliding)."""
+    from fricstab.shear_slips import on_slide_branch
+    from fricstab.shear_spectrum import shear_spectrum as spectrum
+    with np.load(SHEAR_STATE) as z:
+        s = {k: z[k] for k in z.files}
+    ij = s["contacts"]
+    ft, mr, sl, ro = on_slide_branch(s["ft"], s["mr"], s["fn"], s["radius"][ij[:, 0]],
+                                     s["radius"][ij[:, 1]], float(s["mus"]), float(s["mur"]))
+    spec = spectrum(s["pos"], s["angle"], s["radius"], s["mass"], s["inertia"],
+                    s["kind"] == 0, ij, ft, mr, float(s["lx"]), float(s["E"]), float(s["nu"]),
+                    float(s["mus"]), float(s["mur"]))
+    w = spec.eigenvalues
+    return {"n_sliding": float(sl.sum()), "n_rolling": float(ro.sum()),
+            "n_complex_pairs": float(spec.n_complex_pairs),
+            "max_growth_rate": spec.max_growth_rate,
+            "eig_real": np.sort(w.real).tolist()}
+
+
+CASES = {
+    "chain_ramp": chain_ramp,
+    "chain_equilibrium": chain_equilibrium,
+    "chain_growth": chain_growth,
+    "chain_transverse": chain_transverse,
+    "packing_make": packing_make,
+    "packing_rigidity": packing_rigidity,
+    "packing_dos": packing_dos,
+    "packing_dynamics": packing_dynamics,
+    "shear_spectrum": shear_spectrum,
+}
