@@ -2,7 +2,7 @@
 
 The contact-law kernels in :mod:`fricstab.generated` are written by
 ``python -m symbolic.codegen`` from the SymPy derivations in ``symbolic/``;
-:mod:`fricstab.laws` is their registry and :mod:`fricstab.verify` proves them.
+:mod:`fricstab.laws` is their registry and :mod:`fricstab.laws.verify` proves them.
 fricstab never imports SymPy at run time.
 """
 

@@ -423,7 +423,7 @@ def render_all():
             "",
             "LAW_NAMES: the (kn, kt, mu, vector history t) family that the shared",
             "verification harness and its tests sweep; CAPPED_LAW_NAMES: laws with",
-            'capped scalar histories and their own verification (fricstab.shear_verify)."""',
+            'capped scalar histories and their own verification (fricstab.laws.verify_lee_hurley)."""',
             "", f"LAW_NAMES = {tuple(LAWS)!r}",
             f"CAPPED_LAW_NAMES = {tuple(CAPPED_LAWS)!r}", ""]
     files[OUT_DIR / "__init__.py"] = "\n".join(init)

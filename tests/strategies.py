@@ -10,7 +10,7 @@ import math
 
 from hypothesis import strategies as st
 
-from fricstab.verify import EXTREMES, Case
+from fricstab.laws.verify import EXTREMES, Case
 
 __all__ = ["cases", "corrupt_jacobian", "directions"]
 
@@ -29,7 +29,7 @@ _angle = st.floats(0.0, 2 * math.pi)
 
 @st.composite
 def cases(draw):
-    """A :class:`fricstab.verify.Case` anywhere in the verified ranges."""
+    """A :class:`fricstab.laws.verify.Case` anywhere in the verified ranges."""
     phi = draw(_angle)
     tangent = draw(st.booleans())
     psi = phi + math.pi / 2 if tangent else draw(_angle)

@@ -5,11 +5,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fricstab.chain import (ChainScene, ChainState, advance_history, forces,
+from fricstab.scenes.chain import (ChainScene, ChainState, advance_history, forces,
                             forces_and_jacobian, initial_state, mass_vector)
-from fricstab.chain_io import export_state, load_scene
+from fricstab.scenes.chain_io import export_state, load_scene
 from fricstab.laws import ParameterError
-from fricstab.quasistatic import relax_newton
+from fricstab.protocols.quasistatic import relax_newton
 
 
 @pytest.fixture(scope="module")
@@ -142,7 +142,7 @@ def test_chain_cli_bad_input_is_one_line(argv, name, tmp_path, capsys):
 
 
 def test_atomic_write_leaves_nothing_on_failure(tmp_path):
-    from fricstab.chain_io import atomic_write
+    from fricstab.scenes.chain_io import atomic_write
 
     def broken(tmp):
         Path(tmp).write_text("half")
@@ -154,7 +154,7 @@ def test_atomic_write_leaves_nothing_on_failure(tmp_path):
 
 
 def test_transverse_mode_frequency(rest):
-    from fricstab.modes import transverse_mode
+    from fricstab.analysis.modes import transverse_mode
     scene, state = rest
     mode = transverse_mode(scene, state)
     # At F_x = 0 the y modes are uncoupled (neighbours only touch): all have

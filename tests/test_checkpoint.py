@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fricstab.checkpoint import Checkpointer
+from fricstab.io.checkpoint import Checkpointer
 from fricstab.cli import main
-from fricstab.guards import NumericalError, check_finite
+from fricstab.errors import NumericalError, check_finite
 from fricstab.laws import ParameterError
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -47,8 +47,8 @@ def test_check_finite_names_item_component_and_step():
 
 
 def test_dynamics_stops_at_the_first_nonfinite_force():
-    from fricstab.chain import ChainScene, initial_state
-    from fricstab.dynamics import run_dynamics
+    from fricstab.scenes.chain import ChainScene, initial_state
+    from fricstab.protocols.dynamics import run_dynamics
     scene = ChainScene(n=3)
     v = np.zeros((3, 3))
     v[1, 0] = np.nan             # disk 1 moves to NaN in the first drift (its neighbours' forces too)
@@ -57,7 +57,7 @@ def test_dynamics_stops_at_the_first_nonfinite_force():
 
 
 def test_numerical_failure_exits_4(tmp_path, capsys, monkeypatch):
-    from fricstab import dynamics
+    from fricstab.protocols import dynamics
 
     def blow_up(*args, **kwargs):
         raise NumericalError("non-finite force F_x on disk 3 at Verlet step 17")

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fricstab.ensemble import member_path, run_ensemble
+from fricstab.io.ensemble import member_path, run_ensemble
 from fricstab.laws import ParameterError
 
 
@@ -17,7 +17,7 @@ def chain_member(markers, key, kill_key, **kwargs):
 
     The member ``kill_key`` kills its own worker process (SIGKILL) the first time.
     """
-    from fricstab.waves import realization_member
+    from fricstab.protocols.waves import realization_member
     markers = Path(markers)
     (markers / f"start.{key}.{uuid.uuid4().hex}").touch()
     if key == kill_key and not (markers / "killed").exists():
@@ -29,8 +29,8 @@ def chain_member(markers, key, kill_key, **kwargs):
 
 
 def _members(markers, kill_key):
-    from fricstab.chain import ChainScene
-    from fricstab.waves import ramped_equilibrium
+    from fricstab.scenes.chain import ChainScene
+    from fricstab.protocols.waves import ramped_equilibrium
     scene = ChainScene(n=4).with_fx(0.02)
     eq = ramped_equilibrium(scene, 0.02, step=5e-3)
     return {f"seed{s}": dict(markers=str(markers), key=f"seed{s}", kill_key=kill_key,

@@ -4,9 +4,9 @@ and number of frames (OVITO is a test-only dependency)."""
 import numpy as np
 import pytest
 
-from fricstab.export import frames_to_ovito, write_extxyz, write_lammps_dump
+from fricstab.io.export import frames_to_ovito, write_extxyz, write_lammps_dump
 from fricstab.laws import ParameterError
-from fricstab.shear_frames import synthetic_frames
+from fricstab.io.frames import synthetic_frames
 
 ovito_io = pytest.importorskip("ovito.io")
 

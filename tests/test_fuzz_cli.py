@@ -22,7 +22,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from fricstab.cli import main
-from fricstab.scene import get
+from fricstab.io.scenes import get
 
 EXAMPLES = int(os.environ.get("FRICSTAB_FUZZ_EXAMPLES", "100"))
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, database=None,

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from fricstab.chain import ChainScene, initial_state
-from fricstab.growth import measure_growth
-from fricstab.quasistatic import relax_newton
+from fricstab.scenes.chain import ChainScene, initial_state
+from fricstab.protocols.growth import measure_growth
+from fricstab.protocols.quasistatic import relax_newton
 
 
 @pytest.mark.parametrize("fx", [0.03, 0.09])

@@ -12,7 +12,7 @@ Error models behind the tolerances
   round-off ~1e-30; what remains is the float64 rounding of the generated
   block, as above.
 * float64 central differences at the best step: the floor predicted by
-  :func:`fricstab.verify.central_error_model` (truncation, round-off, first
+  :func:`fricstab.laws.verify.central_error_model` (truncation, round-off, first
   order at the C1 points t = 0 and |t| = t*, the last bit of the centre
   distance, cancellation within a row); a case may exceed the 1e-6 bound only
   within 10x of that floor.
@@ -37,7 +37,7 @@ from hypothesis import strategies as st
 
 from fricstab._numerics import overlap_correction
 from fricstab.laws import LAW_NAMES, get_law
-from fricstab.verify import (
+from fricstab.laws.verify import (
     CENTRAL_BOUND, EXTREMES, Case, cancellation_factor, case_inputs, exact_reference_bound, central_error_model, central_jacobian,
     complex_step_jacobian, generated_jacobian, mp_central_jacobian, reference_increment,
     row_relative_error, taylor_consistent, taylor_slope, uncancelled_scale,
@@ -289,7 +289,7 @@ def test_array_layer_matches_the_scalar_kernel(name):
 @pytest.mark.parametrize("name", LAW_NAMES)
 def test_taylor_check_catches_a_wrong_jacobian(name, monkeypatch):
     """Mutation test: K off by 1e-3 (relative) must fail taylor_consistent."""
-    import fricstab.verify as verify
+    import fricstab.laws.verify as verify
 
     monkeypatch.setattr(verify, "_mp_function", corrupt_jacobian(verify._mp_function))
     law = get_law(name)

@@ -9,7 +9,7 @@ Error models behind the tolerances
   number ``1/(lam - 1)`` (lam -> 1 at the turning point).
 * Complex step / 50-digit differences: the float64 block differs from an
   exact reference by its own rounding, 64 eps of the terms each row sums
-  (fricstab.shear_verify.exact_bound).
+  (fricstab.laws.verify_lee_hurley.exact_bound).
 * float64 central differences at the best step, where the column length is
   >= 1e7 ulp(r): rounding ~eps r/h and truncation (h/L)^2 both < 1e-7: 1e-6.
 * Taylor test in 50 digits: slope >= 1.9 (a first-order error in K gives 1).
@@ -27,12 +27,12 @@ from hypothesis import strategies as st
 from fricstab._numerics import contact_halfwidth, cylinder_lambda, turning_overlap
 from fricstab.generated import lee_hurley as gen
 from fricstab.laws import ParameterError, evaluate
-from fricstab.shear_law import damping_coefficients
-from fricstab.shear_verify import (
+from fricstab.protocols.shear_law import damping_coefficients
+from fricstab.laws.verify_lee_hurley import (
     CENTRAL_BOUND, EXTREMES, ShearCase, case_inputs, central_jacobian, central_resolvable,
     complex_step_jacobian, exact_bound, generated_jacobian, lai_kt, mp_central_jacobian,
     reference_increment, sample_cases, taylor_slope, verify_cases)
-from fricstab.verify import row_relative_error
+from fricstab.laws.verify import row_relative_error
 from tests.strategies import corrupt_jacobian
 
 EPS = np.finfo(float).eps
@@ -147,7 +147,7 @@ def test_taylor_remainder_is_second_order(case, direction):
 
 
 def test_taylor_check_catches_a_wrong_jacobian(monkeypatch):
-    import fricstab.shear_verify as sv
+    import fricstab.laws.verify_lee_hurley as sv
     monkeypatch.setattr(sv, "_mp_function", corrupt_jacobian(sv._mp_function))
     case = ShearCase(1e-3, 1.3, 0.7, 0.2, 0.5, 0.01, 3.0, 0.3)
     slope, _ = sv.taylor_slope(case_inputs(case), np.linspace(-1, 1, 6) + 0.1)

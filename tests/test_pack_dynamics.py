@@ -1,12 +1,12 @@
-"""DEM of a frictional periodic packing (fricstab.pack_dynamics): invariants, no timings."""
+"""DEM of a frictional periodic packing (fricstab.protocols.pack_dynamics): invariants, no timings."""
 
 import numpy as np
 import pytest
 
-from fricstab import pack_dynamics as pdyn
+from fricstab.protocols import pack_dynamics as pdyn
 from fricstab.laws import ParameterError
-from fricstab.pack_system import Network, assemble, carry_history, network
-from fricstab.packing import make_packing
+from fricstab.scenes.pack_system import Network, assemble, carry_history, network
+from fricstab.scenes.packing import make_packing
 
 EPS = np.finfo(float).eps
 

@@ -8,7 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from fricstab.laws import ParameterError
-from fricstab.packing import (
+from fricstab.scenes.packing import (
     ConvergenceError,
     Packing,
     _find_contacts_brute,

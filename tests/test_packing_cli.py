@@ -38,7 +38,7 @@ def rigid(made, tmp_path_factory):
 
 
 def test_make_writes_packing_json_and_figure(made):
-    from fricstab.packing import Packing
+    from fricstab.scenes.packing import Packing
     for name in ("packing.npz", "packing.json", "packing.png"):
         assert (made / name).is_file()
     assert (made / "packing.png").read_bytes()[:8] == PNG
@@ -213,7 +213,7 @@ def test_scene_errors_say_what_is_allowed(tmp_path, capsys):
 
 
 def test_disagreement_exits_3_after_writing(made, tmp_path, capsys, monkeypatch):
-    from fricstab import stepstrain
+    from fricstab.protocols import stepstrain
     real = stepstrain.step_strain
 
     def off(*args, **kwargs):
@@ -234,7 +234,7 @@ def test_disagreement_exits_3_after_writing(made, tmp_path, capsys, monkeypatch)
 
 
 def test_convergence_failure_exits_4(made, tmp_path, capsys, monkeypatch):
-    from fricstab import stepstrain
+    from fricstab.protocols import stepstrain
 
     def fail(*args, **kwargs):
         raise stepstrain.ConvergenceError("Newton relaxation did not reach max|F| < 1e-14\n"

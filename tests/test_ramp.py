@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from fricstab.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector
-from fricstab.quasistatic import relax_newton
-from fricstab.ramp import run_ramp
-from fricstab.spectrum import complex_pairs, decompose, growth_rate, pair_indicator
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector
+from fricstab.protocols.quasistatic import relax_newton
+from fricstab.protocols.ramp import run_ramp
+from fricstab.analysis.spectrum import complex_pairs, decompose, growth_rate, pair_indicator
 
 
 @pytest.fixture(scope="module")

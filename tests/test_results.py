@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from fricstab.laws import ParameterError
-from fricstab.results import ResultDir, git_revision, json_clean, versions
+from fricstab.io.results import ResultDir, git_revision, json_clean, versions
 
 
 def test_record_carries_provenance(tmp_path):
@@ -65,7 +65,7 @@ def test_git_revision_never_fails(monkeypatch):
 
 
 def test_internal_error_is_one_line_and_logged(tmp_path, capsys, monkeypatch):
-    from fricstab import chain_cli
+    from fricstab.cli import chain as chain_cli
     from fricstab.cli import main
 
     def bug(ns, argv):

@@ -2,20 +2,20 @@
 
 Preconditions first (force balance, zero modes, symmetry of the unstrained
 Jacobian), then values.  Tolerances come from the error models stated in
-:mod:`fricstab.stepstrain` (step strain) and from ``eps * cond(J)`` (linear
+:mod:`fricstab.protocols.stepstrain` (step strain) and from ``eps * cond(J)`` (linear
 algebra).
 """
 
 import numpy as np
 import pytest
 
-from fricstab.dos import dos, log_bins, participation, rotational_peak, spectrum
+from fricstab.analysis.dos import dos, log_bins, participation, rotational_peak, spectrum
 from fricstab.laws import ParameterError
-from fricstab.pack_system import backbone, rattler_mask
-from fricstab.packing import make_packing
-from fricstab.rigidity import (ishima_flipped, linear_response, mode_sum, rigidity,
+from fricstab.scenes.pack_system import backbone, rattler_mask
+from fricstab.scenes.packing import make_packing
+from fricstab.analysis.rigidity import (ishima_flipped, linear_response, mode_sum, rigidity,
                                solve_nonaffine, zero_modes)
-from fricstab.stepstrain import relax, step_strain
+from fricstab.protocols.stepstrain import relax, step_strain
 
 EPS = np.finfo(float).eps
 
@@ -99,7 +99,7 @@ def test_strained_state_has_history_and_nonsymmetric_jacobian(bb):
     out = relax(pos, np.zeros(bb.n), bb.radius, bb.box, 1.0, shift=1e-4 * bb.box,
                 net=relax(bb.pos, np.zeros(bb.n), bb.radius, bb.box, 1.0).net)
     assert np.abs(out.net.hist).max() > 0
-    from fricstab.pack_system import assemble, sparse_jacobian
+    from fricstab.scenes.pack_system import assemble, sparse_jacobian
     _, blocks = assemble(out.net, bb.radius, 1.0)
     jac = sparse_jacobian(out.net.pairs, blocks, bb.n, 1.0)
     sp = spectrum(jac)
@@ -138,7 +138,7 @@ def test_bad_kt_is_rejected(bb):
 
 
 def test_a_non_finite_jacobian_is_named_before_lapack():
-    from fricstab.guards import NumericalError
+    from fricstab.errors import NumericalError
     jac = np.eye(4)
     jac[2, 1] = np.inf
     with pytest.raises(NumericalError, match="Jacobian entry.*row 2"):

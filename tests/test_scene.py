@@ -5,7 +5,7 @@ import math
 import pytest
 
 from fricstab.laws import ParameterError
-from fricstab.scene import Field, Schema, get, load_toml, register, resolve, show, validate
+from fricstab.io.scenes import Field, Schema, get, load_toml, register, resolve, show, validate
 
 
 def test_defaults_are_filled_and_typed():

@@ -1,14 +1,14 @@
-"""The plane-shear DEM (fricstab.shear, fricstab.shear_dem): scene, neighbour list, integrator."""
+"""The plane-shear DEM (fricstab.scenes.shear, fricstab.protocols.shear_dem): scene, neighbour list, integrator."""
 
 import math
 
 import numpy as np
 import pytest
 
-from fricstab.guards import NumericalError
+from fricstab.errors import NumericalError
 from fricstab.laws import ParameterError
-from fricstab.shear import Shear, make_cell, restitution
-from fricstab import shear_dem as dem
+from fricstab.scenes.shear import Shear, make_cell, restitution
+from fricstab.protocols import shear_dem as dem
 from fricstab.generated.lee_hurley import lee_hurley_force
 
 SMALL = {"n": 40, "seed": 3}

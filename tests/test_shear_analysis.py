@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fricstab import shear_analysis as sa
+from fricstab.analysis import shear as sa
 from fricstab.laws import ParameterError
-from fricstab.shear_frames import FrameWriter, synthetic_frames
+from fricstab.io.frames import FrameWriter, synthetic_frames
 
 
 def d2min_brute(pos_ref, pos_cur, lx, rcut, mask):
@@ -273,7 +273,7 @@ def test_analyze_synthetic_run_is_consistent_and_serialisable():
 
 
 def test_every_figure_writes_a_png(tmp_path):
-    from fricstab import shear_figures as sf
+    from fricstab.figures import shear as sf
 
     f = synthetic_frames(n_frames=8, nx=10, ny=6, seed=7)
     res = sa.analyze(f, gamma0=0.0, progress=False, fraction=0.05)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from fricstab.laws import ParameterError
-from fricstab.shear_frames import Frames, FrameWriter, synthetic_frames
+from fricstab.io.frames import Frames, FrameWriter, synthetic_frames
 
 _ARRAYS = ("radius", "mass", "inertia", "kind", "time", "strain", "normal_force",
            "shear_force", "tau", "height", "pos", "angle", "vel", "omega", "contact_ptr",

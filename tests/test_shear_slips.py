@@ -1,4 +1,4 @@
-"""``fricstab shear analyze|export`` and the Jacobian before each slip (fricstab.shear_slips)."""
+"""``fricstab shear analyze|export`` and the Jacobian before each slip (fricstab.analysis.shear_slips)."""
 
 import json
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from fricstab.cli import main
-from fricstab.shear_slips import CAP_REL, on_slide_branch
+from fricstab.analysis.shear_slips import CAP_REL, on_slide_branch
 
 SMALL = ["--n", "40", "--strain", "0.01", "--dgamma", "1e-5", "--gamma0", "0.002"]
 

@@ -1,4 +1,4 @@
-"""Jacobian of a sheared state and its spectrum (fricstab.shear_spectrum).
+"""Jacobian of a sheared state and its spectrum (fricstab.analysis.shear_spectrum).
 
 Tolerances: the blocks are exact to ~64 eps of their terms (test_lee_hurley);
 assembled sums of a few blocks stay within 1e3 eps of the largest entry.
@@ -14,7 +14,7 @@ import pytest
 
 from fricstab.generated.lee_hurley import lee_hurley_contact, lee_hurley_increment
 from fricstab.laws import ParameterError
-from fricstab.shear_spectrum import assemble_stiffness, shear_spectrum
+from fricstab.analysis.shear_spectrum import assemble_stiffness, shear_spectrum
 
 EPS = np.finfo(float).eps
 MAT = dict(E=1.0, nu=0.2, mus=0.5, mur=0.01)

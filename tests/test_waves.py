@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from fricstab.chain import ChainScene
-from fricstab.waves import fit_waves, ramped_equilibrium, run_realization
+from fricstab.scenes.chain import ChainScene
+from fricstab.protocols.waves import fit_waves, ramped_equilibrium, run_realization
 
 
 def test_breaches_and_sliding_are_found_and_fitted():

@@ -2,7 +2,7 @@
 
 The cache lives in ``validation/.packings/`` (git-ignored; set
 ``FRICSTAB_PACKING_CACHE`` to move it).  A cached file is keyed by every
-argument of :func:`fricstab.packing.make_packing`, so a stale packing cannot
+argument of :func:`fricstab.scenes.packing.make_packing`, so a stale packing cannot
 be reused after a knob changes.
 """
 
@@ -10,7 +10,7 @@ import os
 import time
 from pathlib import Path
 
-from fricstab.packing import Packing, make_packing
+from fricstab.scenes.packing import Packing, make_packing
 
 CACHE = Path(os.environ.get("FRICSTAB_PACKING_CACHE",
                             Path(__file__).resolve().parent / ".packings"))

@@ -1,9 +1,9 @@
 """Where float64 central differences cannot reach 1e-6, and why.
 
-Runs the per-case proof of :mod:`fricstab.verify` for every law over the same
+Runs the per-case proof of :mod:`fricstab.laws.verify` for every law over the same
 sampled configurations as ``fricstab verify`` and tabulates, by regime, the
 largest float64 central-difference error at the best step next to the floor
-predicted by :func:`fricstab.verify.central_error_model`, and the 50-digit
+predicted by :func:`fricstab.laws.verify.central_error_model`, and the 50-digit
 and complex-step errors of the same cases.  Writes ``central_floor.md``.
 
     python validation/central_floor.py [--cases 2000] [--seed 20261121]
@@ -20,7 +20,7 @@ sys.path.insert(0, str(HERE.parent))
 import numpy as np  # noqa: E402
 
 from fricstab.laws import LAW_NAMES, get_law  # noqa: E402
-from fricstab.verify import case_inputs, sample_cases, verify_case  # noqa: E402
+from fricstab.laws.verify import case_inputs, sample_cases, verify_case  # noqa: E402
 
 
 def regime(law, case):
@@ -52,7 +52,7 @@ def main(argv=None):
         f"Written by `python validation/central_floor.py --cases {ns.cases} --seed {ns.seed}`.",
         "Per regime: number of cases, the largest float64 central-difference error",
         "at the best step (row-relative, see README), the largest predicted floor",
-        "(`fricstab.verify.central_error_model`), the largest ratio measured/floor,",
+        "(`fricstab.laws.verify.central_error_model`), the largest ratio measured/floor,",
         "and the largest errors against the exact references of the same cases",
         "(complex step, 50-digit central differences).  The bound is 1e-6; a case",
         "above it is accepted only within 10x of its predicted floor.",

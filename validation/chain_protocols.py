@@ -11,11 +11,11 @@ complex pairs at the paper's F_x values (0.03, 0.04, 0.062, 0.083, 0.087,
 
 Variants
 --------
-* Newton ramps (:func:`fricstab.ramp.run_ramp`, events located by bisection
+* Newton ramps (:func:`fricstab.protocols.ramp.run_ramp`, events located by bisection
   to 1e-6): the default (step 1e-3, I = m R^2 / 2, as ``fricstab chain
   ramp``), steps 5e-4 / 2e-3 / 5e-3, I = m R^2 and I = 2 m R^2 / 5 (I changes
   the mass matrix only, not J or the equilibria).
-* Damped ramps (the paper's protocol, :func:`fricstab.dynamics.relax_damped`,
+* Damped ramps (the paper's protocol, :func:`fricstab.protocols.dynamics.relax_damped`,
   velocity Verlet with drag m nu v, history advanced every step): nu = 0.01,
   0.1, 0.447 (= 0.01 / sqrt(1/2000): nu = 0.01 read in the paper's stated
   time unit sqrt(m 2R / kn) instead of the simulation unit) and 1, step 1e-3,
@@ -52,11 +52,11 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
-from fricstab.dynamics import relax_damped  # noqa: E402
-from fricstab.quasistatic import relax_newton  # noqa: E402
-from fricstab.ramp import _match, locate_event, run_ramp  # noqa: E402
-from fricstab.spectrum import complex_pairs, decompose, growth_rate, tracking_radius  # noqa: E402
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
+from fricstab.protocols.dynamics import relax_damped  # noqa: E402
+from fricstab.protocols.quasistatic import relax_newton  # noqa: E402
+from fricstab.protocols.ramp import _match, locate_event, run_ramp  # noqa: E402
+from fricstab.analysis.spectrum import complex_pairs, decompose, growth_rate, tracking_radius  # noqa: E402
 
 FX_MAX = 0.1
 PROBES = (0.03, 0.04, 0.062, 0.083, 0.087, 0.090)
@@ -196,7 +196,7 @@ def run_damped_variant(name, scene, step, nu, cap, locate=False):
     """Damped ramp with events at the step resolution (see module docstring).
 
     With ``locate`` each event is then bisected to 1e-6 by
-    :func:`fricstab.ramp.locate_event`, every trial relaxed by the damped
+    :func:`fricstab.protocols.ramp.locate_event`, every trial relaxed by the damped
     protocol from the last converged step below it; an event whose trial does
     not converge within the cap stays at the step resolution.
     """
@@ -524,7 +524,7 @@ def main(argv=None):
         f"0.05/omega_wall, history advanced every step) to max |F|, |T| < 1e-12, step "
         f"{damped_step:g} unless stated, **events at the step resolution only** (`(lo,hi]`: "
         "the pair appears/disappears between the two steps; no bisection, to bound the "
-        "time), except 4c: events bisected to 1e-6 afterwards (`fricstab.ramp.locate_event`, the "
+        "time), except 4c: events bisected to 1e-6 afterwards (`fricstab.protocols.ramp.locate_event`, the "
         "same pair indicator as `run_ramp`), every trial relaxed by the damped protocol "
         "from the last converged step below (an event whose trial does not converge within "
         "the cap below stays at the step resolution). "

@@ -21,10 +21,10 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
-from fricstab.dynamics import relax_damped  # noqa: E402
-from fricstab.quasistatic import relax_newton  # noqa: E402
-from fricstab.spectrum import complex_pairs, decompose  # noqa: E402
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
+from fricstab.protocols.dynamics import relax_damped  # noqa: E402
+from fricstab.protocols.quasistatic import relax_newton  # noqa: E402
+from fricstab.analysis.spectrum import complex_pairs, decompose  # noqa: E402
 
 
 def main(argv=None):

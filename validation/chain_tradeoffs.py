@@ -21,10 +21,10 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.chain import ChainScene  # noqa: E402
-from fricstab.growth import measure_growth  # noqa: E402
-from fricstab.ramp import run_ramp  # noqa: E402
-from fricstab.waves import fit_waves, ramped_equilibrium, run_realization  # noqa: E402
+from fricstab.scenes.chain import ChainScene  # noqa: E402
+from fricstab.protocols.growth import measure_growth  # noqa: E402
+from fricstab.protocols.ramp import run_ramp  # noqa: E402
+from fricstab.protocols.waves import fit_waves, ramped_equilibrium, run_realization  # noqa: E402
 
 
 def _first_birth(res):

@@ -2,7 +2,7 @@
 
 For F_x just past the birth that opens the last unbroken stretch of complex
 pairs on the default ramp (0.078) and the paper's 0.083, 0.087, 0.090: 25
-seeded realizations each (:mod:`fricstab.waves` for the definitions), the
+seeded realizations each (:mod:`fricstab.protocols.waves` for the definitions), the
 forward-wave speed V1 and backward-wave speed V2 with bootstrap
 uncertainties, the growth rate of the unstable mode from the Jacobian and
 V1 over it (paper: 4.3 +- 1.5), V2 against the transverse-mode prediction
@@ -24,10 +24,10 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.chain import ChainScene, forces_and_jacobian, mass_vector  # noqa: E402
-from fricstab.modes import transverse_mode  # noqa: E402
-from fricstab.spectrum import decompose  # noqa: E402
-from fricstab.waves import (fit_waves, ramped_equilibrium, run_realization,  # noqa: E402
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, mass_vector  # noqa: E402
+from fricstab.analysis.modes import transverse_mode  # noqa: E402
+from fricstab.analysis.spectrum import decompose  # noqa: E402
+from fricstab.protocols.waves import (fit_waves, ramped_equilibrium, run_realization,  # noqa: E402
                             wave_figure)
 
 PAPER = {0.083: (0.0014, 0.00013), 0.087: (0.0022, 0.00015), 0.090: (0.0028, 8e-5)}
@@ -78,7 +78,7 @@ def main(argv=None):
         f" {time.strftime('%Y-%m-%d')}). Paper units: length 2R, time sqrt(m 2R/kn).",
         f"{n_real} realizations per F_x: Newton ramp to F_x in steps of 1e-3, seeded",
         "perturbation 1e-9 of the wall overlap, undamped Verlet for 25,000 time units.",
-        "Definitions and fits: `fricstab/waves.py` (breach: wall contact at the",
+        "Definitions and fits: `fricstab/protocols/waves.py` (breach: wall contact at the",
         "Coulomb limit; sliding: x moved by > 0.02 (2R); fits on realization-averaged",
         "times per disk, uncertainties by bootstrap over realizations).",
         "",

@@ -2,25 +2,25 @@
 
 For every contact law and two configurations (a representative one and a hard
 one: tiny overlap, history close to the Coulomb limit) this script measures
-the row-relative error (:func:`fricstab.verify.row_relative_error`) of the
+the row-relative error (:func:`fricstab.laws.verify.row_relative_error`) of the
 whole Jacobian block ``K = dF/dq`` against the generated kernel, as a function
 of the relative step ``h/L`` (``L`` the column's length scale from
-:func:`fricstab.verify.perturbation_columns`), for
+:func:`fricstab.laws.verify.perturbation_columns`), for
 
 * forward differences ``(F(q + h e_k) - F(q)) / h``;
 * central differences ``(F(q + h e_k) - F(q - h e_k)) / 2h``
-  (:func:`fricstab.verify._central_column`);
+  (:func:`fricstab.laws.verify._central_column`);
 * ``scipy.differentiate.jacobian``: an eighth-order central stencil on the
   geometric steps ``h, h/2, h/4, h/8`` (Richardson-type extrapolation), with
   ``maxiter`` fixed for the error-versus-step curve, and once with its
   adaptive defaults (``initial_step=0.5 L``, ``maxiter=10``, its own
   tolerance);
 * complex step ``Im F(q + i h e_k) / h``
-  (:func:`fricstab.verify.complex_step_jacobian`).
+  (:func:`fricstab.laws.verify.complex_step_jacobian`).
 
 Every perturbation moves the kernel inputs of column k by the geometric
 coefficients times h *and* the tangential history by ``A[:, k] h``, with
-``A = dt/dq`` the increment rule (:func:`fricstab.verify.reference_increment`).
+``A = dt/dq`` the increment rule (:func:`fricstab.laws.verify.reference_increment`).
 
 It then times each method at its best step against the generated
 ``force_jacobian`` kernel (median wall time per block, called from Python as
@@ -54,9 +54,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from fricstab import verify  # noqa: E402
+from fricstab.laws import verify  # noqa: E402
 from fricstab.laws import LAW_NAMES, get_law  # noqa: E402
-from fricstab.verify import (  # noqa: E402
+from fricstab.laws.verify import (  # noqa: E402
     Case, _central_column, _force, _hist_index, case_inputs, complex_step_jacobian,
     generated_jacobian, mp_central_jacobian, perturbation_columns,
     reference_increment, row_relative_error)
@@ -142,7 +142,7 @@ def _complex_step(rel):
 
 
 def complex_jacobian(law, args, rel):
-    """Complex step ``rel * L`` per column (fricstab.verify.complex_step_jacobian)."""
+    """Complex step ``rel * L`` per column (fricstab.laws.verify.complex_step_jacobian)."""
     with _complex_step(rel):
         return complex_step_jacobian(law, args, reference_increment(law, args))
 
@@ -428,14 +428,14 @@ def write_md(results, path, png, args, runtime):
         "  differentiation and 50-digit (mpmath) central differences to about 1e-13",
         "  (`python -m fricstab verify --law all`); on the configurations below both agree with it",
         f"  to {checks:.1e} or better.",
-        "* **Error**: `fricstab.verify.row_relative_error` of the whole block: per row",
+        "* **Error**: `fricstab.laws.verify.row_relative_error` of the whole block: per row",
         "  (force or torque component) the largest absolute error over the largest",
         "  reference entry of that row; the maximum over rows.",
         "* **Step**: column k is perturbed by `h = (h/L) L_k`, with `L_k` from",
-        "  `fricstab.verify.perturbation_columns` (the overlap, or the Coulomb distance",
+        "  `fricstab.laws.verify.perturbation_columns` (the overlap, or the Coulomb distance",
         "  `t*` where shorter; over the radius for rotations).  Every perturbation moves",
         "  the kernel inputs by the geometric coefficients times h and the history by",
-        "  `A[:, k] h` (`fricstab.verify.reference_increment`).  Forward and central",
+        "  `A[:, k] h` (`fricstab.laws.verify.reference_increment`).  Forward and central",
         "  differences use the step actually representable in the perturbed input.",
         f"* **scipy.differentiate**: `jacobian(..., order=8, maxiter={SCIPY_MAXITER}, initial_step=h/L)` in",
         "  units of `L` per column: one eighth-order central stencil on the steps",
@@ -444,7 +444,7 @@ def write_md(results, path, png, args, runtime):
         "  `rtol = sqrt(eps)`), row *scipy adaptive*.  scipy evaluates the centre once",
         "  per column; the counts below are the force evaluations actually made.",
         "* **Complex step**: `Im F(q + i h e_k) / h` with the complex128 build of the",
-        "  same force kernel (`fricstab.verify.complex_step_jacobian`), h/L down to 1e-30.",
+        "  same force kernel (`fricstab.laws.verify.complex_step_jacobian`), h/L down to 1e-30.",
         "* **Best h/L** is the minimum of the error curve, known here only because the",
         "  reference is known; a user of finite differences has to guess it.  The",
         "  complex-step curve is flat below h/L ~ 1e-8, so its best h/L is arbitrary.",

@@ -32,11 +32,11 @@ sys.path.insert(0, str(HERE))
 import numpy as np  # noqa: E402
 
 from _packings import packing  # noqa: E402
-from fricstab.dos import (binned_mean, dos, log_bins, participation,  # noqa: E402
+from fricstab.analysis.dos import (binned_mean, dos, log_bins, participation,  # noqa: E402
                           rotational_peak, spectrum)
-from fricstab.pack_system import (Backbone, Network, assemble, backbone,  # noqa: E402
+from fricstab.scenes.pack_system import (Backbone, Network, assemble, backbone,  # noqa: E402
                                   sparse_jacobian)
-from fricstab.rigidity import linear_response  # noqa: E402
+from fricstab.analysis.rigidity import linear_response  # noqa: E402
 
 KTS = (1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1.0, 10.0)
 
@@ -194,7 +194,7 @@ def with_rattlers(pk, kt):
 
 def effective_hessian(bb, kt):
     """J of a state with history (after a 1e-4 step strain) and H_eff (history set to 0)."""
-    from fricstab.stepstrain import relax
+    from fricstab.protocols.stepstrain import relax
     pos = bb.pos.copy()
     pos[:, 0] += 1e-4 * pos[:, 1]
     ref = relax(bb.pos, np.zeros(bb.n), bb.radius, bb.box, kt)

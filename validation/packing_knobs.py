@@ -23,9 +23,9 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.pack_system import backbone  # noqa: E402
-from fricstab.packing import make_packing  # noqa: E402
-from fricstab.rigidity import rigidity  # noqa: E402
+from fricstab.scenes.pack_system import backbone  # noqa: E402
+from fricstab.scenes.packing import make_packing  # noqa: E402
+from fricstab.analysis.rigidity import rigidity  # noqa: E402
 
 N, PHI = 256, 0.90
 

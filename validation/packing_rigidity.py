@@ -34,9 +34,9 @@ import numpy as np  # noqa: E402
 import scipy.optimize  # noqa: E402
 
 from _packings import packing  # noqa: E402
-from fricstab.pack_system import backbone  # noqa: E402
-from fricstab.rigidity import ishima_flipped, rigidity, solve_nonaffine  # noqa: E402
-from fricstab.stepstrain import step_strain  # noqa: E402
+from fricstab.scenes.pack_system import backbone  # noqa: E402
+from fricstab.analysis.rigidity import ishima_flipped, rigidity, solve_nonaffine  # noqa: E402
+from fricstab.protocols.stepstrain import step_strain  # noqa: E402
 
 KTS = (1e-4, 1.0, 10.0)
 SWEEP_KTS = (0.0, 1e-8, 1e-4, 1e-2, 1.0, 2.0, 10.0)

@@ -1,14 +1,14 @@
 """Quick default of ``fricstab shear run``: stick-slip phases against Lee & Hurley Sec. 3.3.
 
-Runs the quick preset (``fricstab.shear_cli.QUICK``: 300 disks, I = 1e-4,
+Runs the quick preset (``fricstab.cli.shear.QUICK``: 300 disks, I = 1e-4,
 kappa = 1e3, strain 0.06, dgamma = 1e-5; see that module for each change
 from the paper and its effect) and writes ``validation/shear_quick.md`` and
 ``validation/shear_quick.png`` (tau = S/N against strain).  Paper: about
 42,000 phases in about 130,000 output steps for mu_s = 0.7 (0.32 phases per
 step); 18,000 / 46,000 / 52,000 / 42,000 for mu_s = 0.1 / 0.3 / 0.5 / 0.7.
 
-Then analyses the run (:func:`fricstab.shear_analysis.analyze`) and computes
-the Jacobian spectrum before every slip (:mod:`fricstab.shear_slips`),
+Then analyses the run (:func:`fricstab.analysis.shear.analyze`) and computes
+the Jacobian spectrum before every slip (:mod:`fricstab.analysis.shear_slips`),
 adding the phase statistics, the slip-spectrum statistics and the Spearman
 tables to the markdown.
 
@@ -33,7 +33,7 @@ PAPER_PHASES_PER_STEP = 42_000 / 130_000
 
 def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_quick.png",
          reuse=False):
-    from fricstab.shear_cli import resolve_params, run_shear
+    from fricstab.cli.shear import resolve_params, run_shear
     out = Path(out or tempfile.mkdtemp(prefix="shear_quick_"))
     p = resolve_params(None, "quick", params or {})
     t0 = time.perf_counter()
@@ -53,7 +53,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     # cost of the paper run: 1,000 bulk disks (+ about 60 wall disks), 130,000
     # frames at the paper's I and kappa, from this run's throughput
     paper = resolve_params(None, "paper")
-    from fricstab.shear import make_cell, Shear
+    from fricstab.scenes.shear import make_cell, Shear
     sim = Shear(make_cell(paper))
     sim.wall[1] = sim.cell.n_target
     import math
@@ -79,7 +79,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
         f"| wall time (prepare + shear) | {wall:.0f} s | - |",
         f"| throughput | {thr:.3g} particle-steps/s | - |",
         f"| paper-size run at this throughput | {paper_steps:.3g} steps x {len(sim.cell.radius)} disks = {paper_hours:.1f} h | - |",
-        "", "Phases are counted with `fricstab.shear_analysis.find_phases` (a phase is a run "
+        "", "Phases are counted with `fricstab.analysis.shear.find_phases` (a phase is a run "
         "of output steps with the same sign of d tau). The paper's count is for ~130,000 "
         "output steps; compare the rate per output step. ", "",
         "## Analysis (`fricstab shear analyze`) and the Jacobian before every slip", "",
@@ -98,9 +98,9 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
 
 def _analyze(out, p):
     """Lee & Hurley analyses of the run and the spectrum before each slip (rows, markdown)."""
-    from fricstab.shear_analysis import analyze, tables_markdown
-    from fricstab.shear_cli import frames_of
-    from fricstab.shear_slips import slip_spectra
+    from fricstab.analysis.shear import analyze, tables_markdown
+    from fricstab.cli.shear import frames_of
+    from fricstab.analysis.shear_slips import slip_spectra
     frames = frames_of(out)
     res = analyze(frames, p["gamma0"], progress=False)
     sp = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], p)

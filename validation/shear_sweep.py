@@ -1,8 +1,8 @@
 """Friction sweep of the plane shear (Lee & Hurley Sec. 4): phases and Spearman tables per mu_s.
 
 For mu_s in {0.1, 0.3, 0.5, 0.7}: one quick-preset run each (members of
-:func:`fricstab.ensemble.run_ensemble`, resumable: a finished member is kept),
-then :func:`fricstab.shear_analysis.analyze` on its frames.  Writes
+:func:`fricstab.io.ensemble.run_ensemble`, resumable: a finished member is kept),
+then :func:`fricstab.analysis.shear.analyze` on its frames.  Writes
 ``validation/shear_sweep.md`` (phases per output step against the paper's
 18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 steps, and the
 long-phase Spearman coefficients of dtau_p with mg10 per bin).  Slow (about
@@ -22,8 +22,8 @@ def member(mu_s, out):
     """One sweep member: run, analyze; returns scalars and the Spearman table (JSON)."""
     import numpy as np
 
-    from fricstab.shear_analysis import analyze
-    from fricstab.shear_cli import frames_of, resolve_params, run_shear
+    from fricstab.analysis.shear import analyze
+    from fricstab.cli.shear import frames_of, resolve_params, run_shear
     p = resolve_params(None, "quick", {"mu_s": mu_s})
     rec = run_shear(p, out, force=True, log=lambda *a: None)
     res = analyze(frames_of(out), p["gamma0"], progress=False)
@@ -33,8 +33,8 @@ def member(mu_s, out):
 
 
 def main(out=None):
-    from fricstab.ensemble import run_ensemble
-    from fricstab.shear_analysis import tables_markdown
+    from fricstab.io.ensemble import run_ensemble
+    from fricstab.analysis.shear import tables_markdown
     out = Path(out or HERE / ".shear_sweep")
     jobs = {f"mu{m:g}": dict(mu_s=m, out=str(out / f"mu{m:g}")) for m in PAPER}
     res = run_ensemble(member, jobs, out, scheduler="local", workers=2, progress=True)
@@ -56,7 +56,7 @@ def main(out=None):
             ("(g) Delta tau_p - sg_t10% D2min, long phases", "phase_long", "sg10")):
         rows = {f"mu_s = {m:g}": tables[m][section][series] for m in PAPER}
         lines.append(tables_markdown({title: rows}, title).split("\n", 2)[2])
-    from fricstab import shear_figures as sf
+    from fricstab.figures import shear as sf
     for tag, section, series, title in (
             ("c", "phase_long", "mg10", "Delta tau_p - mg_t10% D2min, long phases (Fig. 13c)"),
             ("g", "phase_long", "sg10", "Delta tau_p - sg_t10% D2min, long phases (Fig. 13g)")):

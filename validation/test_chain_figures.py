@@ -10,13 +10,13 @@ the tolerance.
 import numpy as np
 import pytest
 
-from fricstab.chain import ChainScene
-from fricstab.dynamics import run_dynamics
-from fricstab.modes import transverse_mode
-from fricstab.observables import centre_of_mass, first_breach, msd
-from fricstab.ramp import run_ramp
-from fricstab.spectrum import complex_pairs
-from fricstab.waves import fit_waves, ramped_equilibrium, run_realization
+from fricstab.scenes.chain import ChainScene
+from fricstab.protocols.dynamics import run_dynamics
+from fricstab.analysis.modes import transverse_mode
+from fricstab.analysis.observables import centre_of_mass, first_breach, msd
+from fricstab.protocols.ramp import run_ramp
+from fricstab.analysis.spectrum import complex_pairs
+from fricstab.protocols.waves import fit_waves, ramped_equilibrium, run_realization
 
 SCENE = ChainScene()
 UNIT = np.sqrt(SCENE.mass * 2 * SCENE.radius / SCENE.kn)

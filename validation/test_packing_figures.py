@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 import scipy.optimize
 
-from fricstab.dos import dos, log_bins, participation, rotational_peak, spectrum
-from fricstab.pack_system import backbone
-from fricstab.packing import make_packing
-from fricstab.rigidity import linear_response, rigidity
-from fricstab.stepstrain import step_strain
+from fricstab.analysis.dos import dos, log_bins, participation, rotational_peak, spectrum
+from fricstab.scenes.pack_system import backbone
+from fricstab.scenes.packing import make_packing
+from fricstab.analysis.rigidity import linear_response, rigidity
+from fricstab.protocols.stepstrain import step_strain
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 
-from fricstab.shear_cli import resolve_params, run_shear
+from fricstab.cli.shear import resolve_params, run_shear
 
 
 def test_small_cell_shows_stick_slip(tmp_path):

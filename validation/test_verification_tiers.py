@@ -5,7 +5,7 @@ Quick tier (CI): 150 configurations per law.  Slow tier (``pytest -m slow``):
 
 * complex step and 50-digit central differences: 1e-12 wherever the row is
   well conditioned; elsewhere within 64 eps times the cancellation factor
-  (fricstab.verify.exact_reference_bound): ``*_unexplained_cases == 0``;
+  (fricstab.laws.verify.exact_reference_bound): ``*_unexplained_cases == 0``;
 * float64 central differences at the best step: 1e-6, except within 10x of
   the floor that the error model predicts (central_unexplained_cases == 0);
 * Taylor test: slope >= 1.9 or a remainder at the rounding level of the
@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 
 from fricstab.laws import LAW_NAMES
-from fricstab.verify import sample_cases, verify_law
+from fricstab.laws.verify import sample_cases, verify_law
 
 HERE = Path(__file__).resolve().parent
 

@@ -3,7 +3,7 @@
 
 LAW_NAMES: the (kn, kt, mu, vector history t) family that the shared
 verification harness and its tests sweep; CAPPED_LAW_NAMES: laws with
-capped scalar histories and their own verification (fricstab.shear_verify)."""
+capped scalar histories and their own verification (fricstab.laws.verify_lee_hurley)."""
 
 LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima')
 CAPPED_LAW_NAMES = ('lee_hurley',)

@@ -1,14 +1,14 @@
 """Eigen-solver routes for the packing Jacobian: time and error against the dense reference.
 
 Matrix: ``J = -dF/dq`` (Ishima Eq. 18) of the rattler-free backbone of a packing
-(phi = 0.9, seed 0), assembled by :func:`fricstab.pack_system.sparse_jacobian`
+(phi = 0.9, seed 0), assembled by :func:`fricstab.scenes.pack_system.sparse_jacobian`
 with random tangential histories of size 1e-4 d (the scale a step strain of
 1e-4 leaves), which makes ``J`` non-symmetric as in a sheared packing.
 3N = 768 (quick), 3072 and 12,288 (full; at 12,288 only ARPACK, judged by its
 residual, unless ``--huge`` adds the dense routes: about an hour on 2 cores,
 as the (3N)^3 cost extrapolated from 3072 says).
 
-Routes: ``dense`` = :func:`fricstab.dos.spectrum` (``scipy.linalg.eig``, left
+Routes: ``dense`` = :func:`fricstab.analysis.dos.spectrum` (``scipy.linalg.eig``, left
 and right vectors, biorthonormalized), the reference; ``eigvals`` (values
 only); ``symmetric`` = ``dos.spectrum(route="symmetric")`` (``eigh`` of the
 symmetric part: exact only for symmetric J, error second order in the
@@ -34,8 +34,8 @@ import scipy.linalg  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 from _common import save_figure, write_table  # noqa: E402
 
-from fricstab.dos import spectrum  # noqa: E402
-from fricstab.pack_system import Network, assemble, backbone, network, sparse_jacobian  # noqa: E402
+from fricstab.analysis.dos import spectrum  # noqa: E402
+from fricstab.scenes.pack_system import Network, assemble, backbone, network, sparse_jacobian  # noqa: E402
 
 KT, K_LOW, HIST = 1.0, 50, 1e-4
 

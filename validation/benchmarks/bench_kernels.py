@@ -31,7 +31,7 @@ from _common import ROOT, median_time, write_table  # noqa: E402
 
 from fricstab._numba import kernel_jit  # noqa: E402
 from fricstab.generated.ishima import ishima_assemble, ishima_force  # noqa: E402
-from fricstab.pack_system import assemble, network, sparse_jacobian  # noqa: E402
+from fricstab.scenes.pack_system import assemble, network, sparse_jacobian  # noqa: E402
 
 KT = 1.0
 
@@ -71,9 +71,9 @@ def _contacts(n):
 COMPILE = """
 import time, numpy as np
 t0 = time.perf_counter()
-from fricstab.pack_system import assemble, network
-from fricstab import pack_dynamics as pdyn
-from fricstab.packing import make_packing
+from fricstab.scenes.pack_system import assemble, network
+from fricstab.protocols import pack_dynamics as pdyn
+from fricstab.scenes.packing import make_packing
 t1 = time.perf_counter()
 p = make_packing(16, 0.85, 0)
 net = network(p.pos, p.radius, p.box)

@@ -1,6 +1,6 @@
 """The knobs no other study measures: DEM time step against energy error, system size against cost.
 
-1. Time step of the packing DEM (:mod:`fricstab.pack_dynamics`, velocity
+1. Time step of the packing DEM (:mod:`fricstab.protocols.pack_dynamics`, velocity
    Verlet) against the energy error and the cost: N = 256, phi = 0.9,
    velocities of amplitude 1e-3, t = 40 t0.  Two numbers per dt: the spread
    ``(max E - min E) / E_kin(0)`` of the recorded energy (integrator error plus
@@ -27,9 +27,9 @@ import numpy as np  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 from _common import median_time, save_figure, write_table  # noqa: E402
 
-from fricstab import pack_dynamics as pdyn  # noqa: E402
-from fricstab.dos import spectrum  # noqa: E402
-from fricstab.pack_system import Network, assemble, network, sparse_jacobian  # noqa: E402
+from fricstab.protocols import pack_dynamics as pdyn  # noqa: E402
+from fricstab.analysis.dos import spectrum  # noqa: E402
+from fricstab.scenes.pack_system import Network, assemble, network, sparse_jacobian  # noqa: E402
 
 
 def _packing(n):

@@ -58,8 +58,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 from _common import save_figure, write_table  # noqa: E402
 
-from fricstab import pack_dynamics as pdyn  # noqa: E402
-from fricstab.packing import make_packing  # noqa: E402
+from fricstab.protocols import pack_dynamics as pdyn  # noqa: E402
+from fricstab.scenes.packing import make_packing  # noqa: E402
 
 KT, DT, PHI, AMP = 1.0, 0.01, 0.9, 1e-3
 LARGE, SMALL = 0.5, 0.5 / 1.4
@@ -266,7 +266,7 @@ def lammps_throughput(p, v, style, procs, steps, repeats, tmp):
 
 
 def ours_throughput(p, v, steps, repeats):
-    """Particle-steps per second of :func:`fricstab.pack_dynamics.run` (median of ``repeats``)."""
+    """Particle-steps per second of :func:`fricstab.protocols.pack_dynamics.run` (median of ``repeats``)."""
     state = pdyn.init_state(p.pos, p.radius, p.box, KT, v)
     pdyn.run(state, DT, 10)  # compile / warm caches
     rates = []

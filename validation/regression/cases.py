@@ -27,8 +27,8 @@ SHEAR_STATE = HERE / "shear_state.npz"  # a stick state of a sheared 150-disk ce
 
 def chain_ramp():
     """Every event of the default ramp (F_x to 0.1, step 1e-3, bisection 1e-6)."""
-    from fricstab.chain import ChainScene
-    from fricstab.ramp import run_ramp
+    from fricstab.scenes.chain import ChainScene
+    from fricstab.protocols.ramp import run_ramp
     res = run_ramp(ChainScene(), 0.1, 1e-3, tol=1e-6)
     return {"event_fx": [e.fx for e in res.events],
             "event_birth": [1.0 if e.kind == "birth" else 0.0 for e in res.events],
@@ -36,15 +36,15 @@ def chain_ramp():
 
 
 def _ramped(fx):
-    from fricstab.chain import ChainScene
-    from fricstab.waves import ramped_equilibrium
+    from fricstab.scenes.chain import ChainScene
+    from fricstab.protocols.waves import ramped_equilibrium
     return ramped_equilibrium(ChainScene(), fx)
 
 
 def chain_equilibrium():
     """Newton equilibrium at F_x = 0.03 reached by the 1e-3 ramp, and its spectrum."""
-    from fricstab.chain import ChainScene, forces_and_jacobian, mass_vector
-    from fricstab.spectrum import decompose
+    from fricstab.scenes.chain import ChainScene, forces_and_jacobian, mass_vector
+    from fricstab.analysis.spectrum import decompose
     scene = ChainScene().with_fx(0.03)
     st = _ramped(0.03)
     _, jac = forces_and_jacobian(scene, st)
@@ -55,16 +55,16 @@ def chain_equilibrium():
 
 def chain_growth():
     """Growth rate of the unstable mode at F_x = 0.03: Jacobian and dynamics."""
-    from fricstab.chain import ChainScene
-    from fricstab.growth import measure_growth
+    from fricstab.scenes.chain import ChainScene
+    from fricstab.protocols.growth import measure_growth
     g = measure_growth(ChainScene().with_fx(0.03), _ramped(0.03))
     return {"predicted": g.predicted, "measured": g.measured}
 
 
 def chain_transverse():
     """Transverse frequency at F_x = 0 in the paper's units (Charan: 0.235)."""
-    from fricstab.chain import ChainScene
-    from fricstab.modes import transverse_mode
+    from fricstab.scenes.chain import ChainScene
+    from fricstab.analysis.modes import transverse_mode
     return {"omega": transverse_mode(ChainScene(), _ramped(0.0)).omega}
 
 
@@ -72,7 +72,7 @@ def chain_transverse():
 
 def packing_make():
     """make_packing at N = 64 and 256: contact count, box and positions."""
-    from fricstab.packing import find_contacts, make_packing
+    from fricstab.scenes.packing import find_contacts, make_packing
     out = {}
     for n in (64, 256):
         p = make_packing(n, 0.90, seed=0)
@@ -84,15 +84,15 @@ def packing_make():
 
 
 def _backbone():
-    from fricstab.pack_system import backbone
-    from fricstab.packing import Packing
+    from fricstab.scenes.pack_system import backbone
+    from fricstab.scenes.packing import Packing
     return backbone(Packing.load(PACKING))
 
 
 def packing_rigidity():
     """G_A, G_NA (solve and mode sum) and step strain on the stored N = 256 packing."""
-    from fricstab.rigidity import rigidity
-    from fricstab.stepstrain import step_strain
+    from fricstab.analysis.rigidity import rigidity
+    from fricstab.protocols.stepstrain import step_strain
     bb = _backbone()
     out = {"backbone_n": float(bb.n)}
     for kt in (1e-4, 1.0, 10.0):
@@ -109,8 +109,8 @@ def packing_rigidity():
 
 def packing_dos():
     """Rotational-peak exponent over kT/kN = 1e-8..1e-2 on the stored packing."""
-    from fricstab.dos import participation, rotational_peak, spectrum
-    from fricstab.rigidity import linear_response
+    from fricstab.analysis.dos import participation, rotational_peak, spectrum
+    from fricstab.analysis.rigidity import linear_response
     bb = _backbone()
     kts = np.array([1e-8, 1e-6, 1e-4, 1e-2])
     med, low = [], []
@@ -126,8 +126,8 @@ def packing_dos():
 
 def packing_dynamics():
     """Newtonian DEM with history (kT/kN = 1) on the stored packing, kicked: 2,000 steps."""
-    from fricstab import pack_dynamics as pd
-    from fricstab.packing import Packing
+    from fricstab.protocols import pack_dynamics as pd
+    from fricstab.scenes.packing import Packing
     p = Packing.load(PACKING)
     rng = np.random.default_rng(1)
     v = 1e-3 * rng.standard_normal((p.n, 3))
@@ -142,8 +142,8 @@ def packing_dynamics():
 
 def shear_spectrum():
     """Spectrum of the stored stick state (histories on a cap count as sliding)."""
-    from fricstab.shear_slips import on_slide_branch
-    from fricstab.shear_spectrum import shear_spectrum as spectrum
+    from fricstab.analysis.shear_slips import on_slide_branch
+    from fricstab.analysis.shear_spectrum import shear_spectrum as spectrum
     with np.load(SHEAR_STATE) as z:
         s = {k: z[k] for k in z.files}
     ij = s["contacts"]

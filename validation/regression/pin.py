@@ -24,9 +24,9 @@ from cases import CASES, PACKING, SHEAR_STATE  # noqa: E402
 
 
 def write_data():
-    from fricstab.packing import make_packing
-    from fricstab.shear import Shear, make_cell, prepare
-    from fricstab.shear_cli import resolve_params
+    from fricstab.scenes.packing import make_packing
+    from fricstab.scenes.shear import Shear, make_cell, prepare
+    from fricstab.cli.shear import resolve_params
     make_packing(256, 0.90, seed=0).save(PACKING)
     p = resolve_params(None, "quick", {"n": 150, "strain": 0.03, "gamma0": 0.01})
     sim = Shear(make_cell(p))

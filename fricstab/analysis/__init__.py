@@ -1,0 +1,1 @@
+"""Analyses of states and runs: spectra, rigidity, density of states, shear statistics."""

@@ -1,0 +1,557 @@
+"""Particle-scale analyses of plane-shear frames (Lee & Hurley, Secs. 3.2-3.3, App. B).
+
+Pure functions over a :class:`fricstab.io.frames.Frames` (or plain
+arrays), and :func:`analyze`, which runs them over a whole run and returns a
+frozen :class:`ShearAnalysis` (arrays for NPZ, a JSON-serialisable summary).
+
+Conventions
+-----------
+* A *step* k (1 <= k < T) goes from frame k - 1 (reference, strain
+  gamma - dgamma) to frame k.  Per-step arrays have length T; entry 0 is NaN
+  (or 0 for counts).
+* Positions are (x unwrapped, y); a neighbour vector at the reference frame
+  uses the minimum image in x, and the *same* image is used at the current
+  frame, so vectors stay continuous across the periodic boundary.
+* Rattlers (Sec. 3.2): bulk particles with <= 2 force-bearing contacts, wall
+  particles with <= 1.  A contact is force-bearing when its elastic normal
+  force ``contact_fn > 0``.  Rattlers (at the reference frame) are excluded
+  from D2min both as centres (their D2min is NaN) and as neighbours.
+* D2min (Eqs. B1-B4) uses neighbours within ``radius_cut`` = 5 r_p (r_p the
+  mean radius of the bulk particles) of the centre at the reference frame.
+  A neighbourhood with fewer than 2 neighbours, or with Y (B3) singular
+  (det Y <= 1e-12 (tr Y)^2, collinear neighbours), gives NaN for that
+  particle: D2min is undefined there.  With exactly 2 (non-collinear)
+  neighbours Gamma fits both exactly and D2min is returned as exactly 0
+  (instead of ill-conditioned rounding).  gD2min and g_t10%D2min are taken over
+  bulk particles with finite D2min.
+* Non-affine displacement: displacement minus the global best-fit affine map
+  (least squares over the included particles, the B2-B4 fit applied to the
+  whole sample about its centroid); it removes the shear profile and any
+  dilation of the cell, so what remains is the Fig. 7 field.
+* Differential force of contact (i, j) at step k: |f_k| - |f_{k-1}| (total
+  contact force magnitudes); 0 for a contact that is created between the
+  frames (and contacts destroyed are not in frame k, so they do not appear).
+* GR (greatest reduction) contacts: the ``ceil(fraction * M_k)`` contacts of
+  frame k with the most negative differential force (only negative ones);
+  their particles (both ends, each once) are clustered by DBSCAN with
+  eps = 5 r_p and ``min_samples=2`` on a periodic-in-x distance matrix.
+  MATLAB's "at least 1 neighbour for a core point" equals sklearn's
+  ``min_samples=2`` because sklearn counts the point itself.
+* Contact angle theta (Fig. 8d): angle between the x-axis and the contact
+  force line, folded into (-pi/2, pi/2] so that it does not depend on which
+  particle of the pair the force acts on; the paper's |theta| lies in
+  [0, pi/2].
+* Particle stress: sigma_p = (1/A_p) sum_c r_c (x) f_c with A_p = pi R_p^2,
+  r_c from the centre to the contact point (at R_i - delta/2 along the
+  centre line), f_c the force on p: compression is negative.
+* Phases (Sec. 3.2): maximal runs of steps with Delta tau > 0 (stick) or
+  Delta tau < 0 (slip) among steps whose reference strain is >= gamma0; a step
+  with Delta tau == 0 ends a run and belongs to none.  A phase over steps
+  a..b has Delta tau_p = tau[b] - tau[a-1] and t_p = b - a + 1 (in units of
+  the output strain step dgamma); long when t_p > 3.
+* t_s of Eqs. 3-4: ``ts_rule="min_gr"`` (default) takes the first step of the
+  phase at which the number of GR clusters is minimal over the phase (our
+  reading of "the initial timestep when the GR regions are at their
+  minimum"); ``ts_rule="start"`` takes the first step.
+"""
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+from scipy.stats import spearmanr
+
+from fricstab.laws import ParameterError
+
+__all__ = ["PAPER_BINS", "ShearAnalysis", "analyze", "binned_spearman", "contact_angle",
+           "d2min", "differential_forces", "find_phases", "gr_regions",
+           "neighbour_pairs", "nonaffine_displacement", "particle_stress", "phase_metrics",
+           "phase_summary", "rattler_mask", "spearman_cell", "step_metrics",
+           "tables_markdown"]
+
+#: Bins of Delta tau (and Delta tau_p) of Figs. 9, 10 and 13.
+PAPER_BINS = ((-1e-1, -1e-2), (-1e-2, -1e-3), (-1e-3, -1e-4), (-1e-4, 0.0),
+              (0.0, 1e-4), (1e-4, 1e-3), (1e-3, 1e-2), (1e-2, 1e-1))
+
+
+def _min_image(dx, lx):
+    return dx - lx * np.round(dx / lx)
+
+
+def rattler_mask(frames, k):
+    """Boolean (N,) mask of rattlers at frame ``k`` (Sec. 3.2).
+
+    Bulk particles with <= 2 force-bearing contacts (``contact_fn > 0``) and
+    wall particles with <= 1.
+    """
+    ij, _, fn, _, _, _ = frames.contacts(k)
+    bearing = ij[fn > 0]
+    count = np.bincount(bearing.ravel(), minlength=frames.n_particles)
+    limit = np.where(frames.kind == 0, 2, 1)
+    return count <= limit
+
+
+def neighbour_pairs(pos, lx, radius_cut, include_mask=None):
+    """All ordered pairs (i, j), i != j, with centres within ``radius_cut`` (min image in x).
+
+    Returns
+    -------
+    i, j : ndarray of int64
+        Both orders of each pair; only particles of ``include_mask``.
+    shift : ndarray (P,)
+        The image index s with ``d = pos[j] - pos[i] - (s lx, 0)`` the
+        minimum-image vector (x unwrapped positions).
+    """
+    pos = np.asarray(pos, dtype=np.float64)
+    if not radius_cut > 0 or not np.isfinite(radius_cut):
+        raise ParameterError(f"radius_cut = {radius_cut!r} must be finite and > 0")
+    if 2 * radius_cut >= lx:
+        raise ParameterError(f"radius_cut = {radius_cut} must be < lx/2 = {lx / 2} "
+                             "(minimum image)")
+    idx = np.arange(pos.shape[0]) if include_mask is None else np.flatnonzero(include_mask)
+    p = pos[idx]
+    y0 = p[:, 1].min() if len(p) else 0.0
+    span = (p[:, 1].max() - y0) if len(p) else 0.0
+    wrapped = np.column_stack([np.mod(p[:, 0], lx), p[:, 1] - y0 + radius_cut])
+    wrapped[:, 0] = np.where(wrapped[:, 0] >= lx, 0.0, wrapped[:, 0])
+    tree = cKDTree(wrapped, boxsize=[lx, 2 * (span + 2 * radius_cut) + 1.0])
+    pairs = tree.query_pairs(radius_cut, output_type="ndarray")
+    a, b = idx[pairs[:, 0]], idx[pairs[:, 1]]
+    i, j = np.concatenate([a, b]), np.concatenate([b, a])
+    shift = np.round((pos[j, 0] - pos[i, 0]) / lx)
+    return i.astype(np.int64), j.astype(np.int64), shift
+
+
+def d2min(pos_ref, pos_cur, lx, radius_cut, include_mask=None):
+    """D2min of every particle between two frames (Eqs. B1-B4).
+
+    Parameters
+    ----------
+    pos_ref, pos_cur : ndarray (N, 2)
+        Positions at gamma - dgamma (defines neighbourhoods) and gamma;
+        x unwrapped.
+    lx : float
+        Box length in x.
+    radius_cut : float
+        Neighbourhood radius (the paper uses 5 r_p).
+    include_mask : ndarray (N,) bool, optional
+        Particles used as centres and as neighbours (non-rattlers).
+
+    Returns
+    -------
+    ndarray (N,)
+        D2min (B1) with Gamma = X Y^-1 (B2-B4); NaN for excluded particles and
+        for degenerate neighbourhoods (< 2 neighbours or collinear).
+    """
+    pos_ref = np.asarray(pos_ref, dtype=np.float64)
+    pos_cur = np.asarray(pos_cur, dtype=np.float64)
+    if pos_ref.shape != pos_cur.shape or pos_ref.ndim != 2 or pos_ref.shape[1] != 2:
+        raise ParameterError(f"d2min: positions must both be (N, 2), got {pos_ref.shape} "
+                             f"and {pos_cur.shape}")
+    n = pos_ref.shape[0]
+    i, j, s = neighbour_pairs(pos_ref, lx, radius_cut, include_mask)
+    off = np.column_stack([s * lx, np.zeros_like(s)])
+    dr = pos_ref[j] - pos_ref[i] - off
+    dc = pos_cur[j] - pos_cur[i] - off
+    cnt = np.bincount(i, minlength=n).astype(np.float64)
+    X = np.empty((n, 2, 2))
+    Y = np.empty((n, 2, 2))
+    for a in range(2):
+        for b in range(2):
+            X[:, a, b] = np.bincount(i, dc[:, a] * dr[:, b], minlength=n)
+            Y[:, a, b] = np.bincount(i, dr[:, a] * dr[:, b], minlength=n)
+    det = Y[:, 0, 0] * Y[:, 1, 1] - Y[:, 0, 1] * Y[:, 1, 0]
+    trace = Y[:, 0, 0] + Y[:, 1, 1]
+    ok = (cnt >= 2) & (det > 1e-12 * trace**2)
+    if include_mask is not None:
+        ok &= np.asarray(include_mask, dtype=bool)
+    safe = np.where(ok, det, 1.0)
+    yinv = np.empty_like(Y)
+    yinv[:, 0, 0] = Y[:, 1, 1] / safe
+    yinv[:, 1, 1] = Y[:, 0, 0] / safe
+    yinv[:, 0, 1] = -Y[:, 0, 1] / safe
+    yinv[:, 1, 0] = -Y[:, 1, 0] / safe
+    gamma = X @ yinv
+    res = dc - np.einsum("pab,pb->pa", gamma[i], dr)
+    out = np.bincount(i, (res**2).sum(axis=1), minlength=n) / np.maximum(cnt, 1)
+    out[cnt == 2] = 0.0  # Gamma maps both neighbours exactly: B1 is identically 0
+    out[~ok] = np.nan
+    return out
+
+
+def nonaffine_displacement(pos_ref, pos_cur, include_mask=None):
+    """Displacement minus the global best-fit affine map (Fig. 7), shape (N, 2).
+
+    The map u = A (r - c) + b is fitted by least squares over the included
+    particles (c their reference centroid); excluded particles get NaN.
+    """
+    pos_ref = np.asarray(pos_ref, dtype=np.float64)
+    u = np.asarray(pos_cur, dtype=np.float64) - pos_ref
+    mask = np.ones(len(pos_ref), bool) if include_mask is None else np.asarray(include_mask)
+    if mask.sum() < 3:
+        raise ParameterError("nonaffine_displacement: need >= 3 included particles")
+    c = pos_ref[mask].mean(axis=0)
+    dr = pos_ref - c
+    design = np.column_stack([dr[mask], np.ones(mask.sum())])
+    coef, *_ = np.linalg.lstsq(design, u[mask], rcond=None)
+    out = u - (np.column_stack([dr, np.ones(len(dr))]) @ coef)
+    out[~mask] = np.nan
+    return out
+
+
+def _pair_keys(ij, n):
+    return ij[:, 0].astype(np.int64) * n + ij[:, 1]
+
+
+def differential_forces(frames, k):
+    """|f_k| - |f_{k-1}| per contact of frame ``k`` (0 for new contacts), shape (M_k,)."""
+    if not 1 <= k < frames.n_frames:
+        raise ParameterError(f"differential_forces: k={k} must lie in [1, {frames.n_frames})")
+    ij1, f1, *_ = frames.contacts(k)
+    ij0, f0, *_ = frames.contacts(k - 1)
+    n = frames.n_particles
+    key0, key1 = _pair_keys(ij0, n), _pair_keys(ij1, n)
+    out = np.zeros(len(key1))
+    if len(key0) == 0:
+        return out
+    order = np.argsort(key0)
+    loc = np.minimum(np.searchsorted(key0[order], key1), len(key0) - 1)
+    found = key0[order][loc] == key1
+    prev = np.hypot(f0[:, 0], f0[:, 1])[order][loc]
+    mag1 = np.hypot(f1[:, 0], f1[:, 1])
+    out[found] = mag1[found] - prev[found]
+    return out
+
+
+def contact_angle(force):
+    """Angle of the force line with the x-axis, folded into (-pi/2, pi/2] (Fig. 8d)."""
+    th = np.arctan2(force[:, 1], force[:, 0])
+    th = np.where(th > np.pi / 2, th - np.pi, th)
+    return np.where(th <= -np.pi / 2, th + np.pi, th)
+
+
+def gr_regions(frames, k, eps, fraction=0.01, min_samples=2):
+    """GR regions at step ``k``: DBSCAN clusters of the particles of the GR contacts.
+
+    Returns
+    -------
+    dict
+        ``contacts`` (indices into frame k's contacts), ``particles``,
+        ``labels`` (per particle, -1 noise), ``n_clusters``, ``abs_angle``
+        (|theta| of the GR contacts), ``angle_mean``, ``angle_median``.
+    """
+    from sklearn.cluster import DBSCAN
+
+    if not 0 < fraction <= 1:
+        raise ParameterError(f"gr_regions: fraction = {fraction} must lie in (0, 1]")
+    df = differential_forces(frames, k)
+    ij, force, *_ = frames.contacts(k)
+    n_gr = math.ceil(fraction * len(df))
+    order = np.argsort(df, kind="stable")[:n_gr]
+    sel = order[df[order] < 0]
+    parts = np.unique(ij[sel].ravel())
+    out = {"contacts": sel, "particles": parts, "labels": np.zeros(0, np.int64),
+           "n_clusters": 0, "abs_angle": np.abs(contact_angle(force[sel])),
+           "angle_mean": np.nan, "angle_median": np.nan}
+    if len(sel):
+        out["angle_mean"] = float(out["abs_angle"].mean())
+        out["angle_median"] = float(np.median(out["abs_angle"]))
+    if len(parts):
+        p = frames.pos[k][parts]
+        d = p[:, None, :] - p[None, :, :]
+        d[..., 0] = _min_image(d[..., 0], frames.lx)
+        dist = np.hypot(d[..., 0], d[..., 1])
+        labels = DBSCAN(eps=eps, min_samples=min_samples, metric="precomputed").fit(dist).labels_
+        out["labels"] = labels
+        out["n_clusters"] = int(labels.max() + 1)
+    return out
+
+
+def particle_stress(frames, k):
+    """Per-particle stress tensors (N, 2, 2) at frame ``k`` (Sec. 3.2, Fig. 8a)."""
+    ij, force, *_ = frames.contacts(k)
+    pos, rad, n = frames.pos[k], frames.radius, frames.n_particles
+    i, j = ij[:, 0], ij[:, 1]
+    d = pos[j] - pos[i]
+    d[:, 0] = _min_image(d[:, 0], frames.lx)
+    dist = np.hypot(d[:, 0], d[:, 1])
+    nrm = d / np.where(dist > 0, dist, 1.0)[:, None]
+    delta = rad[i] + rad[j] - dist
+    ri = nrm * (rad[i] - delta / 2)[:, None]
+    rj = -nrm * (rad[j] - delta / 2)[:, None]
+    sig = np.zeros((n, 2, 2))
+    for a in range(2):
+        for b in range(2):
+            sig[:, a, b] = (np.bincount(i, ri[:, a] * force[:, b], minlength=n)
+                            + np.bincount(j, rj[:, a] * -force[:, b], minlength=n))
+    return sig / (np.pi * rad**2)[:, None, None]
+
+
+def _max_principal(sig):
+    sym = 0.5 * (sig + np.swapaxes(sig, 1, 2))
+    return np.linalg.eigvalsh(sym)[:, -1]
+
+
+def spearman_cell(x, y, min_n=3, alpha=0.05):
+    """Spearman rho of finite pairs; ``rho`` None ("n/a") for n < min_n or constant input."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    ok = np.isfinite(x) & np.isfinite(y)
+    x, y = x[ok], y[ok]
+    cell = {"n": len(x), "rho": None, "p": None, "significant": False, "status": "ok"}
+    if len(x) < min_n:
+        cell["status"] = f"n/a (n<{min_n})"
+    elif np.ptp(x) == 0 or np.ptp(y) == 0:
+        cell["status"] = "n/a (constant input)"
+    else:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = spearmanr(x, y)
+        cell.update(rho=float(res.statistic), p=float(res.pvalue),
+                    significant=bool(res.pvalue <= alpha))
+    return cell
+
+
+def binned_spearman(key, values, bins=PAPER_BINS, **kw):
+    """Spearman of ``key`` against each series of ``values`` within each bin of ``key``.
+
+    A value belongs to bin (lo, hi) when lo <= x < hi, x != 0.
+
+    Returns
+    -------
+    dict
+        ``{name: [cell per bin]}``, each cell as :func:`spearman_cell` plus
+        ``lo`` and ``hi``.
+    """
+    key = np.asarray(key, float)
+    out = {}
+    for name, v in values.items():
+        v = np.asarray(v, float)
+        cells = []
+        for lo, hi in bins:
+            m = (key >= lo) & (key < hi) & (key != 0)
+            cells.append({"lo": lo, "hi": hi, **spearman_cell(key[m], v[m], **kw)})
+        out[name] = cells
+    return out
+
+
+def tables_markdown(tables, title="Spearman correlations"):
+    """Markdown of :func:`binned_spearman` tables: one row per series, one column per bin.
+
+    A cell reads ``rho (p)``; cells with p > 0.05 are struck through, as the
+    paper omits them; ``n/a`` where fewer than 3 samples or constant input.
+    ``tables`` maps a section name to ``{series: [cell per bin]}``.
+    """
+    lines = [f"## {title}", ""]
+    for section, series in tables.items():
+        if not series:
+            continue
+        cells0 = next(iter(series.values()))
+        head = [f"[{c['lo']:g}, {c['hi']:g})" for c in cells0]
+        lines += [f"### {section}", "", "| series | " + " | ".join(head) + " |",
+                  "|---" * (len(head) + 1) + "|"]
+        for name, cells in series.items():
+            row = []
+            for c in cells:
+                if c["rho"] is None:
+                    row.append(f"n/a (n={c['n']})")
+                else:
+                    txt = f"{c['rho']:+.2f} (p={c['p']:.1e}, n={c['n']})"
+                    row.append(txt if c["significant"] else f"~~{txt}~~")
+            lines.append(f"| {name} | " + " | ".join(row) + " |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def find_phases(tau, step_ok):
+    """Stick and slip phases (Sec. 3.2) of a tau series.
+
+    Parameters
+    ----------
+    tau : ndarray (T,)
+    step_ok : ndarray (T,) bool
+        Steps k (frame k-1 -> k) inside the analysed window; entry 0 ignored.
+
+    Returns
+    -------
+    ndarray (P, 2) int64
+        First and last step (a, b) of each phase; sign from tau[b] - tau[a-1].
+    """
+    tau = np.asarray(tau, float)
+    sign = np.zeros(len(tau), np.int8)
+    sign[1:] = np.sign(np.diff(tau))
+    sign[~np.asarray(step_ok, bool)] = 0
+    sign[0] = 0
+    phases, a = [], None
+    for k in range(1, len(tau) + 1):
+        cur = sign[k] if k < len(tau) else 0
+        if a is not None and cur != sign[a]:
+            phases.append((a, k - 1))
+            a = None
+        if a is None and cur != 0:
+            a = k
+    return np.array(phases, dtype=np.int64).reshape(-1, 2)
+
+
+def phase_metrics(phases, tau, g, g10, n_clusters, ts_rule="min_gr"):
+    """Delta tau_p, t_p and Eqs. 1-4 per phase.
+
+    Returns
+    -------
+    dict of ndarray (P,)
+        ``dtau_p, t_p, mg, mg10, sg, sg10, ts`` (t_s step index).
+    """
+    if ts_rule not in ("min_gr", "start"):
+        raise ParameterError(f"ts_rule = {ts_rule!r}; allowed: 'min_gr', 'start'")
+    P = len(phases)
+    out = {name: np.full(P, np.nan) for name in ("dtau_p", "mg", "mg10", "sg", "sg10")}
+    out["t_p"] = np.zeros(P, np.int64)
+    out["ts"] = np.zeros(P, np.int64)
+    for p, (a, b) in enumerate(phases):
+        s = slice(a, b + 1)
+        out["dtau_p"][p] = tau[b] - tau[a - 1]
+        out["t_p"][p] = b - a + 1
+        ts = a + int(np.argmin(n_clusters[s])) if ts_rule == "min_gr" else a
+        out["ts"][p] = ts
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN phases stay NaN
+            out["mg"][p] = np.nanmax(g[s]) if np.any(np.isfinite(g[s])) else np.nan
+            out["mg10"][p] = np.nanmax(g10[s]) if np.any(np.isfinite(g10[s])) else np.nan
+        out["sg"][p] = np.sum(g[ts:b + 1])
+        out["sg10"][p] = np.sum(g10[ts:b + 1])
+    return out
+
+
+def phase_summary(phases, metrics, n_steps, strain_span):
+    """Counts for comparison with the paper (about 0.32 phases per output step)."""
+    dt, tp = metrics["dtau_p"], metrics["t_p"]
+    slips = dt < 0
+    P = len(phases)
+    largest = int(np.argmin(dt)) if P else None
+    return {
+        "n_steps": int(n_steps), "n_phases": int(P),
+        "phases_per_step": P / n_steps if n_steps else None,
+        "phases_per_unit_strain": P / strain_span if strain_span > 0 else None,
+        "n_stick": int((dt > 0).sum()), "n_slip": int(slips.sum()),
+        "fraction_long": float((tp > 3).mean()) if P else None,
+        "fraction_short": float((tp <= 3).mean()) if P else None,
+        "slip_abs_dtau_mean": float(np.abs(dt[slips]).mean()) if slips.any() else None,
+        "slip_abs_dtau_median": float(np.median(np.abs(dt[slips]))) if slips.any() else None,
+        "largest_drop": float(dt[largest]) if P else None,
+        "largest_drop_steps": [int(x) for x in phases[largest]] if P else None,
+    }
+
+
+def step_metrics(d2, bulk):
+    """gD2min (max) and g_t10%D2min (mean of the top 10 %) over finite bulk D2min."""
+    v = d2[bulk & np.isfinite(d2)]
+    if len(v) == 0:
+        return np.nan, np.nan
+    top = np.sort(v)[-max(1, math.ceil(0.1 * len(v))):]
+    return float(v.max()), float(top.mean())
+
+
+@dataclass(frozen=True)
+class ShearAnalysis:
+    """Result of :func:`analyze`: per-step arrays, phases and Spearman tables."""
+
+    arrays: dict
+    phases: np.ndarray
+    tables: dict
+    summary: dict
+
+    def to_json(self):
+        """JSON-serialisable dict: summary, parameters and tables."""
+        return {"summary": self.summary, "tables": self.tables}
+
+    def npz_arrays(self):
+        """Arrays for ``np.savez`` (per step and per phase)."""
+        return {**self.arrays, "phases": self.phases}
+
+
+def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr",
+            frames_range=None, keep_d2min=False, progress=True):
+    """Run all analyses over the steps of ``frames`` (Secs. 3.2-3.3).
+
+    Parameters
+    ----------
+    frames : Frames
+    gamma0 : float
+        Start of the analysed window: steps with reference strain >= gamma0
+        (the paper uses 2.2 %).
+    radius_factor : float
+        D2min and DBSCAN radius in units of r_p (paper: 5).
+    fraction : float
+        GR fraction of contacts (paper: 1 %).
+    ts_rule : {"min_gr", "start"}
+        t_s of Eqs. 3-4 (see the module docstring).
+    frames_range : (int, int), optional
+        Restrict the per-step particle analyses to steps in [start, stop).
+    keep_d2min : bool
+        Also return the (T, N) D2min field.
+    progress : bool
+        tqdm progress bar.
+    """
+    from tqdm import tqdm
+
+    T, N = frames.n_frames, frames.n_particles
+    if T < 2:
+        raise ParameterError(f"analyze: need >= 2 frames, got {T}")
+    bulk = frames.kind == 0
+    if not bulk.any():
+        raise ParameterError("analyze: no bulk particles (kind == 0)")
+    rp = float(frames.radius[bulk].mean())
+    rcut = radius_factor * rp
+    start, stop = frames_range or (1, T)
+    if not 1 <= start < stop <= T:
+        raise ParameterError(f"analyze: frames_range {frames_range} must satisfy 1 <= start < stop <= {T}")
+    nan = np.full(T, np.nan)
+    arr = {"strain": np.array(frames.strain), "tau": np.array(frames.tau),
+           "dtau": np.concatenate([[np.nan], np.diff(frames.tau)]),
+           "g": nan.copy(), "g10": nan.copy(), "rho_sigma_d2": nan.copy(),
+           "n_clusters": np.zeros(T, np.int64), "angle_mean": nan.copy(),
+           "angle_median": nan.copy(), "n_rattlers": np.zeros(T, np.int64)}
+    field = np.full((T, N), np.nan) if keep_d2min else None
+    ratt_prev = rattler_mask(frames, start - 1)
+    smax_prev = _max_principal(particle_stress(frames, start - 1))
+    for k in tqdm(range(start, stop), disable=not progress, desc="shear analysis"):
+        ratt = rattler_mask(frames, k)
+        arr["n_rattlers"][k] = int(ratt.sum())
+        d2 = d2min(frames.pos[k - 1], frames.pos[k], frames.lx, rcut, ~ratt_prev)
+        if field is not None:
+            field[k] = d2
+        arr["g"][k], arr["g10"][k] = step_metrics(d2, bulk)
+        gr = gr_regions(frames, k, rcut, fraction)
+        arr["n_clusters"][k] = gr["n_clusters"]
+        arr["angle_mean"][k], arr["angle_median"][k] = gr["angle_mean"], gr["angle_median"]
+        smax = _max_principal(particle_stress(frames, k))
+        cell = spearman_cell(np.abs(smax - smax_prev)[bulk], d2[bulk])
+        arr["rho_sigma_d2"][k] = np.nan if cell["rho"] is None else cell["rho"]
+        ratt_prev, smax_prev = ratt, smax
+    if field is not None:
+        arr["d2min"] = field
+    in_window = np.zeros(T, bool)
+    in_window[start:stop] = frames.strain[start - 1:stop - 1] >= gamma0
+    phases = find_phases(frames.tau, in_window)
+    pm = phase_metrics(phases, arr["tau"], arr["g"], arr["g10"], arr["n_clusters"], ts_rule)
+    for name, v in pm.items():
+        arr[f"phase_{name}"] = v
+    dt, tp = pm["dtau_p"], pm["t_p"]
+    long_, short = tp > 3, tp <= 3
+    pvals = {"mg": pm["mg"], "mg10": pm["mg10"], "sg": pm["sg"], "sg10": pm["sg10"]}
+    w = in_window
+    tables = {
+        "step_dtau": binned_spearman(arr["dtau"][w], {"g": arr["g"][w], "g10": arr["g10"][w]}),
+        "phase_all": binned_spearman(dt, pvals),
+        "phase_long": binned_spearman(dt[long_], {n: v[long_] for n, v in pvals.items()}),
+        "phase_short": binned_spearman(dt[short], {n: v[short] for n, v in pvals.items()}),
+        "phase_tp": {"long": binned_spearman(dt[long_], {"t_p": tp[long_]})["t_p"],
+                     "short": binned_spearman(dt[short], {"t_p": tp[short]})["t_p"]},
+    }
+    n_steps = int(w.sum())
+    span = float(frames.strain[stop - 1] - max(gamma0, frames.strain[start - 1])) if n_steps else 0.0
+    summary = {"gamma0": gamma0, "r_p": rp, "radius_cut": rcut, "fraction": fraction,
+               "ts_rule": ts_rule, "steps": [int(start), int(stop)],
+               **phase_summary(phases, pm, n_steps, span)}
+    return ShearAnalysis(arrays=arr, phases=phases, tables=tables, summary=summary)

@@ -1,0 +1,370 @@
+"""The ``fricstab`` command.
+
+Subcommands
+-----------
+``fricstab laws``
+    List the contact laws with their coordinates and forces.
+``fricstab verify --law NAME|all --cases N --seed S --json PATH``
+    Prove the generated Jacobian blocks against complex-step, central and
+    50-digit differences and a Taylor test (:mod:`fricstab.laws.verify`), print a
+    table and write a JSON list with one object per law.
+``fricstab chain ramp|jacobian ...``
+    The chain of disks of Charan et al. (:mod:`fricstab.cli.chain`).
+``fricstab packing make|rigidity|dos ...``
+    Disk packings of Ishima et al.: rigidity and DOS (:mod:`fricstab.cli.packing`).
+``fricstab shear ...``
+    Plane shear of Lee & Hurley (:mod:`fricstab.cli.shear`, when installed).
+``fricstab scene show NAME`` / ``fricstab scene list``
+    The keys of a scene file: type, default, unit, allowed values (:mod:`fricstab.io.scenes`).
+
+Exit status
+-----------
+0 ok; 1 the operating system refused a file operation; 2 bad input (one
+line naming the parameter, its value and what is allowed); 3 theory and
+simulation (or a proof) disagree; 4 numerical failure (non-finite force,
+energy or eigenvalue; no convergence; out of memory), the last checkpoint
+kept; 70 internal error (a bug: one line, the traceback in
+``<out>/fricstab-error.log`` or shown with ``--debug``); 130 interrupted
+(checkpoints kept: rerun with ``--resume``).  No traceback reaches the user
+unless ``--debug`` is given.
+"""
+
+import argparse
+import contextlib
+import io
+import json
+import math
+import os
+import platform
+import sys
+import tempfile
+import time
+import traceback
+from pathlib import Path
+
+from fricstab import __version__
+from fricstab.laws import CAPPED_LAW_NAMES, LAW_NAMES, ParameterError, get_law
+
+ALL_LAWS = LAW_NAMES + CAPPED_LAW_NAMES
+
+__all__ = ["main", "EXIT_OK", "EXIT_OS", "EXIT_USAGE", "EXIT_DISAGREE", "EXIT_NUMERICAL",
+           "EXIT_INTERNAL", "EXIT_INTERRUPTED"]
+
+EXIT_OK, EXIT_OS, EXIT_USAGE, EXIT_DISAGREE, EXIT_NUMERICAL = 0, 1, 2, 3, 4
+EXIT_INTERNAL, EXIT_INTERRUPTED = 70, 130
+
+
+class UsageError(Exception):
+    """Bad command-line input (exit status 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def _int_at_least(minimum):
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text!r}")
+        return value
+    return parse
+
+
+def _positive_float():
+    def parse(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+        if not math.isfinite(value) or value <= 0:
+            raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+        return value
+    return parse
+
+
+def _law_list(text):
+    if text == "all":
+        return list(ALL_LAWS)
+    names = [t.strip() for t in text.split(",") if t.strip()]
+    if not names:
+        raise argparse.ArgumentTypeError("must name a law or 'all'")
+    for n in names:
+        if n not in ALL_LAWS:
+            raise argparse.ArgumentTypeError(
+                f"unknown law {n!r}; known laws: {', '.join(ALL_LAWS)}, all")
+    return names
+
+
+def _parser():
+    p = _Parser(prog="fricstab", description="Verified contact laws of frictional disks, and "
+                "the protocols of three studies of frictional granular matter.",
+                epilog="exit status: 0 ok, 1 file system refused, 2 bad input, 3 theory and "
+                "simulation disagree, 4 numerical failure or no convergence (last checkpoint "
+                "kept), 70 internal error (a bug; log in the output folder), 130 interrupted "
+                "(resume with --resume)")
+    p.add_argument("--version", action="version", version=f"fricstab {__version__}")
+    p.add_argument("--debug", action="store_true",
+                   help="show the traceback of an internal error (default: one line, the "
+                        "traceback written to a log file)")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    sub.add_parser("laws", help="list the contact laws")
+    v = sub.add_parser("verify", help="prove the generated Jacobians (see README)")
+    v.add_argument("--law", type=_law_list, default=list(ALL_LAWS),
+                   help="law name, comma-separated names, or 'all' (default: all)")
+    v.add_argument("--cases", type=_int_at_least(1), default=200,
+                   help="configurations per law (default: 200)")
+    v.add_argument("--seed", type=_int_at_least(0), default=0,
+                   help="seed of the configuration sampler (default: 0)")
+    v.add_argument("--json", type=Path, default=None, metavar="PATH",
+                   help="write the JSON report here")
+    v.add_argument("--radius", type=_positive_float(), default=0.5,
+                   help="radius R of particle i (default: 0.5)")
+    v.add_argument("--kn", type=_positive_float(), default=1.0,
+                   help="normal stiffness k_n (default: 1)")
+    v.add_argument("--mu-range", type=_positive_float(), nargs=2,
+                   metavar=("LO", "HI"), default=None, help="friction coefficient range "
+                   "(default: 0.1 100)")
+    v.add_argument("--kt-ratio-range", type=_positive_float(), nargs=2,
+                   metavar=("LO", "HI"), default=None, help="k_t/k_n range (default: 1e-10 10)")
+    v.add_argument("--delta-range", type=_positive_float(), nargs=2,
+                   metavar=("LO", "HI"), default=None, help="overlap/R range (default: 1e-12 0.1)")
+    v.add_argument("--radius-ratio-range", type=_positive_float(),
+                   nargs=2, metavar=("LO", "HI"), default=None,
+                   help="R_j/R_i range (default: 1 1.4)")
+    v.add_argument("--no-progress", action="store_true", help="no progress bar")
+    from fricstab.cli import chain as chain_cli
+    from fricstab.cli import packing as packing_cli
+    chain_cli.add_parser(sub, _Parser, _positive_float)
+    packing_cli.add_parser(sub, _Parser, _positive_float)
+    shear = _shear_cli()
+    if shear is not None:
+        shear.add_parser(sub, _Parser, _positive_float)
+    sc = sub.add_parser("scene", help="the keys of the scene files (show, list)")
+    ssub = sc.add_subparsers(dest="scene_command", metavar="SCENE_COMMAND",
+                             parser_class=_Parser)
+    ssub.required = True
+    show = ssub.add_parser("show", help="every key of a scene: type, default, unit, allowed, doc")
+    show.add_argument("name", help="scene name (see `fricstab scene list`)")
+    ssub.add_parser("list", help="the scene names")
+    return p
+
+
+def _shear_cli():
+    """fricstab.cli.shear, or None where it is not installed."""
+    try:
+        from fricstab.cli import shear as shear_cli
+    except ImportError:
+        return None
+    if not (hasattr(shear_cli, "add_parser") and hasattr(shear_cli, "run")):
+        return None
+    return shear_cli
+
+
+def _cmd_scene(ns):
+    from fricstab.io import scenes as scene
+    if ns.scene_command == "list":
+        for name in scene.names():
+            print(f"{name:10s} {scene.get(name).title}")
+        return 0
+    print(scene.show(ns.name))
+    return 0
+
+
+def _ranges(ns):
+    from fricstab.laws.verify import EXTREMES
+    ranges = dict(EXTREMES)
+    for key, opt, upper in (("mu", "mu_range", None), ("kt_over_kn", "kt_ratio_range", None),
+                            ("delta_over_R", "delta_range", 1.0),
+                            ("radius_ratio", "radius_ratio_range", None)):
+        value = getattr(ns, opt)
+        if value is None:
+            continue
+        lo, hi = value
+        flag = "--" + opt.replace("_", "-")
+        if lo > hi:
+            raise UsageError(f"{flag}: LO must not exceed HI, got {lo:g} > {hi:g}")
+        if upper is not None and hi >= upper:
+            raise UsageError(f"{flag}: HI must be < {upper:g} (overlap below the radius), got {hi:g}")
+        if key == "radius_ratio" and lo < 1.0:
+            raise UsageError(f"{flag}: LO must be >= 1 (particle i is the smaller), got {lo:g}")
+        ranges[key] = (lo, hi)
+    return ranges
+
+
+def _cmd_laws():
+    for name in ALL_LAWS:
+        law = get_law(name)
+        print(f"{name:12s} {law.kind:4s}  coords ({', '.join(law.coords)})  "
+              f"forces ({', '.join(law.outputs)})")
+    return 0
+
+
+def _fmt(x):
+    return "   null" if x is None else f"{x:8.1e}"
+
+
+def _cmd_verify(ns):
+    import numpy as np
+    import numba
+    import scipy
+    from tqdm import tqdm
+
+    from fricstab.laws.verify import sample_cases, verify_law
+
+    ranges = _ranges(ns)
+    if ns.json is not None:
+        parent = ns.json.expanduser().resolve().parent
+        if not parent.is_dir():
+            raise UsageError(f"--json: directory {parent} does not exist")
+    cases = sample_cases(ns.cases, ns.seed, ranges=ranges)
+    results = []
+    bar = tqdm(total=ns.cases * len(ns.law), desc="verify", unit="case",
+               disable=ns.no_progress or None, file=sys.stderr)
+    capped = [n for n in ns.law if n in CAPPED_LAW_NAMES]
+    capped_ok = True
+    for name in capped:   # own parameters and regimes: fricstab.laws.verify_lee_hurley
+        from fricstab.laws import verify_lee_hurley as shear_verify
+        bar.set_postfix_str(name)
+        report = shear_verify.verify_cases(shear_verify.sample_cases(ns.cases, ns.seed),
+                                           ns.seed, bar)
+        results.append(report)
+        capped_ok &= shear_verify.failures(report) == 0
+    for name in (n for n in ns.law if n not in CAPPED_LAW_NAMES):
+        t0 = time.perf_counter()
+        bar.set_postfix_str(name)
+        res = verify_law(name, cases, ns.seed, progress=bar, radius=ns.radius, kn=ns.kn)
+        res["meta"] = {
+            "elapsed_s": round(time.perf_counter() - t0, 3),
+            "ranges": ranges, "radius": ns.radius, "kn": ns.kn,
+            "fricstab": __version__, "numpy": np.__version__, "scipy": scipy.__version__,
+            "numba": numba.__version__, "python": platform.python_version(),
+        }
+        results.append(res)
+    bar.close()
+    print(f"{'law':12s} {'cases':>6s} {'cplx-step':>9s} {'(unexpl.)':>9s} {'mp50':>9s} "
+          f"{'(unexpl.)':>9s} {'central':>9s} {'>1e-6':>6s} {'(unexpl.)':>9s} "
+          f"{'taylor':>13s} {'(failed)':>8s} {'nonfinite':>9s}")
+    for r in results:
+        if r["law"] in CAPPED_LAW_NAMES:
+            for regime, g in r["regimes"].items():
+                print(f"{r['law'] + ':' + regime:22s} {g['cases']:6d} "
+                      f"{_fmt(g['max_rel_err_complex_step'])} {g['complex_step_above_bound']:9d} "
+                      f"{_fmt(g['max_rel_err_central_mp50'])} {g['central_mp50_above_bound']:9d} "
+                      f"{_fmt(g['max_rel_err_central'])} {g['central_above_1e-6']:6d} "
+                      f"{'-':>9s} {g['taylor_slope_min']:13.3f} {'-':>8s} {g['nonfinite']:9d}")
+            continue
+        slope = (f"{r['taylor_slope_min']:.3f}-{r['taylor_slope_max']:.3f}"
+                 if r["taylor_slope_min"] is not None else "n/a")
+        print(f"{r['law']:12s} {r['cases']:6d} {_fmt(r['max_rel_err_complex_step'])} "
+              f"{r['complex_step_unexplained_cases']:9d} {_fmt(r['max_rel_err_central_mp50'])} "
+              f"{r['central_mp50_unexplained_cases']:9d} {_fmt(r['max_rel_err_central'])} "
+              f"{r['central_cases_above_bound']:6d} {r['central_unexplained_cases']:9d} "
+              f"{slope:>13s} {r['taylor_failed_cases']:8d} {r['nonfinite']:9d}")
+    if ns.json is not None:
+        ns.json.write_text(json.dumps(results, indent=2) + "\n")
+        print(f"wrote {ns.json}")
+    ok = capped_ok and all(r["complex_step_unexplained_cases"] == 0 and r["central_unexplained_cases"] == 0
+             and r["central_mp50_unexplained_cases"] == 0 and r["taylor_failed_cases"] == 0
+             and r["nonfinite"] == 0 for r in results if r["law"] not in CAPPED_LAW_NAMES)
+    if not ok:
+        print("fricstab: verification FAILED (see the table)", file=sys.stderr)
+    return 0 if ok else 3
+
+
+def _dispatch(ns, argv):
+    if ns.command == "laws":
+        return _cmd_laws()
+    if ns.command == "scene":
+        return _cmd_scene(ns)
+    if ns.command == "chain":
+        from fricstab.cli import chain as chain_cli
+        return chain_cli.run(ns, argv)
+    if ns.command == "packing":
+        from fricstab.cli import packing as packing_cli
+        return packing_cli.run(ns, argv)
+    if ns.command == "shear":
+        return _shear_cli().run(ns, argv)
+    return _cmd_verify(ns)
+
+
+def _one_line(exc):
+    text = " ".join(str(exc).split())
+    return text if len(text) <= 500 else text[:497] + "..."
+
+
+def _resume_hint(ns):
+    out = getattr(ns, "out", None)
+    if out is not None and getattr(ns, "checkpoint_every", "n/a") != "n/a":
+        return f"; checkpoints kept in {out}: rerun the same command with --resume"
+    return ""
+
+
+def _log_internal(ns, exc):
+    """Write the traceback to ``<out>/fricstab-error.log`` (else a temporary file)."""
+    text = "".join(traceback.format_exception(exc))
+    out = getattr(ns, "out", None) if ns is not None else None
+    candidates = ([Path(out).expanduser()] if out is not None else []) + \
+        [Path(tempfile.gettempdir())]
+    for folder in candidates:
+        try:
+            if folder.is_dir():
+                path = folder / ("fricstab-error.log" if folder != candidates[-1]
+                                 else f"fricstab-error-{os.getpid()}.log")
+                path.write_text(text)
+                return path
+        except OSError:
+            continue
+    return None
+
+
+def main(argv=None):
+    """Entry point; returns the exit status (see the module docstring)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    ns = None
+    debug = "--debug" in argv or os.environ.get("FRICSTAB_DEBUG") == "1"
+    try:
+        ns = _parser().parse_args(argv)
+        quiet = getattr(ns, "quiet", False)
+        if quiet:
+            ns.no_progress = True
+        with contextlib.redirect_stdout(io.StringIO()) if quiet else contextlib.nullcontext():
+            return _dispatch(ns, argv)
+    except SystemExit as exc:   # --help, --version
+        return exc.code if isinstance(exc.code, int) else 0
+    except (UsageError, ParameterError) as exc:
+        print(f"fricstab: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print(f"fricstab: interrupted{_resume_hint(ns)}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except MemoryError:
+        print("fricstab: error: out of memory; reduce the system size", file=sys.stderr)
+        return EXIT_NUMERICAL
+    except OSError as exc:
+        name = f": {exc.filename}" if exc.filename else ""
+        print(f"fricstab: error: {_one_line(exc.strerror or exc)}{name}", file=sys.stderr)
+        return EXIT_OS
+    except Exception as exc:
+        from fricstab.errors import NumericalError
+        if isinstance(exc, NumericalError):
+            print(f"fricstab: error: numerical failure: {_one_line(exc)}{_resume_hint(ns)}",
+                  file=sys.stderr)
+            return EXIT_NUMERICAL
+        if debug:
+            traceback.print_exception(exc, file=sys.stderr)
+            return EXIT_INTERNAL
+        log = _log_internal(ns, exc)
+        where = f"traceback in {log}" if log else "rerun with --debug for the traceback"
+        print(f"fricstab: internal error: {type(exc).__name__}: {_one_line(exc)[:200]} "
+              f"({where}; please report it)", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,516 @@
+"""``fricstab chain ramp|jacobian|dynamics|waves``: the chain protocol from the command line.
+
+Scene keys (``--scene FILE.toml``, overridden by ``--n --fy --mu --inertia``):
+``fricstab scene show chain``.  Every command takes ``--out DIR`` (required),
+``--force``, ``--quiet``, ``--no-progress``, ``--dry-run`` (validate, print the
+resolved parameters as JSON, write nothing); its record ``DIR/<command>.json``
+carries the numbers, the resolved parameters, the seed, versions, git revision
+and wall/CPU time per stage (:mod:`fricstab.io.results`).
+
+``fricstab chain ramp --fx-max 0.1 --step 1e-3 --out DIR``
+    Quasistatic F_x ramp (Newton, history carried), spectra of M^-1 J and the
+    complex-pair events located by bisection; writes ``ramp.json``,
+    ``ramp.npz`` (fx, eigenvalues, condition numbers, residuals, growth rates)
+    and ``ramp.png`` (real and imaginary parts against F_x, as Charan Fig. 2).
+``fricstab chain jacobian --fx F --out DIR``
+    Equilibrium at F (ramped from 0 in steps of ``--step``) and its Jacobian:
+    ``state.npz``, ``jacobian.npy`` (see fricstab.scenes.chain_io) and ``jacobian.json``.
+``fricstab chain dynamics --fx F --duration T --seed S --out DIR [--checkpoint-every K] [--resume] [--export xyz|dump]``
+    Newtonian dynamics from that equilibrium with a seeded perturbation:
+    ``dynamics.json`` (first Coulomb breach per disk), ``dynamics.npz``
+    (frames: positions, velocities, wall histories; M(t), centre of mass),
+    ``dynamics.png`` (Figs. 3, 4, 7), optionally ``trajectory.xyz`` or
+    ``trajectory.dump`` for OVITO.  Checkpoints every K Verlet steps in
+    ``DIR/checkpoints/`` (removed when the run completes); ``--resume``
+    continues bit-identically from the latest.
+``fricstab chain waves --fx F... --realizations R --out DIR [--scheduler local|inline|ADDRESS]``
+    R seeded realizations per F_x through :func:`fricstab.io.ensemble.run_ensemble`
+    (each stored in ``DIR/members/`` when done, skipped on rerun); wave fits
+    in ``waves.json``, ``waves.npz``, ``waves.png``.
+
+Exit status: 0 ok, 2 bad input, 4 no equilibrium or a non-finite force.
+Every file is written atomically (a complete file or none).
+"""
+
+import json
+import sys
+
+import numpy as np
+
+from fricstab.scenes.chain import forces_and_jacobian, initial_state
+from fricstab.scenes.chain_io import export_state
+from fricstab.laws import ParameterError
+from fricstab.protocols.quasistatic import relax_newton
+
+__all__ = ["add_parser", "run"]
+
+PAPER_TIME_UNIT = "sqrt(m 2R / kn)"
+
+
+MAX_RAMP_STEPS = 1_000_000        # ramp/equilibrium steps of F_x: beyond this, refuse
+MAX_VERLET_STEPS = 2_000_000_000  # dynamics: beyond this (hours), refuse
+DEFAULT_CHECKPOINT_EVERY = 50_000  # Verlet steps between checkpoints of `chain dynamics`
+
+
+def _finite_float(text):
+    import argparse
+    import math
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
+    return value
+
+
+def _count(text):
+    import argparse
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
+    return value
+
+
+def add_parser(sub, parser_class, positive_float):
+    """Register ``fricstab chain ramp|jacobian|dynamics|waves`` on the subparsers ``sub``."""
+    from fricstab.io.results import add_run_options
+
+    p = sub.add_parser("chain", help="chain of disks on a substrate (Charan et al.)",
+                       description="Chain of disks pressed on a substrate (Charan et al.). "
+                       "Scene keys: `fricstab scene show chain`.")
+    csub = p.add_subparsers(dest="chain_command", metavar="CHAIN_COMMAND",
+                            parser_class=parser_class)
+    csub.required = True
+    for name, helptext in (("ramp", "quasistatic F_x ramp and complex-pair events"),
+                           ("jacobian", "equilibrium at --fx and its Jacobian"),
+                           ("dynamics", "Newtonian dynamics from the equilibrium at --fx"),
+                           ("waves", "forward and backward waves over realizations")):
+        c = csub.add_parser(name, help=helptext, description=helptext)
+        add_run_options(c, seed=name in ("dynamics", "waves"),
+                        checkpoints=name == "dynamics")
+        c.add_argument("--n", type=_count, default=None, help="number of disks (default 10)")
+        c.add_argument("--fy", type=_finite_float, default=None,
+                       help="pressing force F_y (default 0.1)")
+        c.add_argument("--mu", type=_finite_float, default=None,
+                       help="friction coefficient (default 10)")
+        c.add_argument("--inertia", type=_finite_float, default=None,
+                       help="moment of inertia (default m R^2 / 2)")
+        c.add_argument("--step", type=positive_float(), default=1e-3,
+                       help="ramp step in F_x (default 1e-3); smaller is slower and, for the "
+                            "ramp, resolves closer events")
+        if name == "ramp":
+            c.add_argument("--fx-max", type=positive_float(), default=0.1,
+                           help="largest F_x (default 0.1)")
+            c.add_argument("--tol", type=positive_float(), default=1e-6,
+                           help="bisection tolerance in F_x (default 1e-6); each halving "
+                                "costs one more Newton solve and eigendecomposition per event")
+        elif name == "waves":
+            c.add_argument("--fx", type=positive_float(), nargs="+", default=[0.083, 0.087, 0.090],
+                           help="F_x values (default: the paper's 0.083 0.087 0.090)")
+            c.add_argument("--realizations", type=_count, default=25,
+                           help="seeded realizations per F_x, >= 2 (default 25); the "
+                                "uncertainty of V1, V2 falls as 1/sqrt(realizations)")
+            c.add_argument("--duration", type=positive_float(), default=25000.0,
+                           help="duration in Charan's time unit (default 25000)")
+            c.add_argument("--slide-threshold", type=positive_float(), default=0.02,
+                           help="displacement (2R) that counts as sliding (default 0.02)")
+            c.add_argument("--scheduler", default="local", metavar="ADDRESS",
+                           help="dask scheduler: 'local' (a LocalCluster of processes, "
+                                "default), 'inline' (no dask, in this process), or the "
+                                "address of a running scheduler (tcp://host:8786)")
+            c.add_argument("--workers", type=_count, default=None,
+                           help="worker processes of the local cluster (default: CPU count)")
+        else:
+            c.add_argument("--fx", type=_finite_float, required=True,
+                           help="F_x of the equilibrium")
+        if name == "dynamics":
+            c.add_argument("--duration", type=positive_float(), default=20000.0,
+                           help="duration in Charan's time unit sqrt(m 2R/kn) (default 20000)")
+            c.add_argument("--amplitude", type=positive_float(), default=1e-9,
+                           help="perturbation, times the wall overlap (default 1e-9)")
+            c.add_argument("--disk", type=_count, default=3,
+                           help="disk whose trajectory is drawn (default 3: the paper's 4th)")
+            c.add_argument("--export", choices=("xyz", "dump"), default=None,
+                           help="also write the trajectory for OVITO: extended XYZ "
+                                "(trajectory.xyz) or LAMMPS dump text (trajectory.dump)")
+    return p
+
+
+def _params(ns):
+    """Validated scene keys (scene file, then the command line)."""
+    from fricstab.scenes.chain_io import scene_parameters
+    return scene_parameters(ns.scene, n=ns.n, fy=ns.fy, mu=ns.mu, inertia=ns.inertia)
+
+
+def _scene(ns):
+    from fricstab.scenes.chain import ChainScene
+    return ChainScene(**{k: v for k, v in _params(ns).items() if v is not None})
+
+
+def _scene_dict(scene):
+    return {k: getattr(scene, k) for k in ("n", "radius", "mass", "kn", "kt", "mu", "fy",
+                                           "inertia")}
+
+
+def _check_ramp_steps(value, step, flag):
+    steps = abs(value) / step
+    if steps > MAX_RAMP_STEPS:
+        raise ParameterError(f"{flag} / --step = {steps:.3g} ramp steps; at most "
+                             f"{MAX_RAMP_STEPS:.0e} (raise --step)")
+
+
+def _dry_run(ns, scene, extra):
+    """--dry-run: print the resolved parameters as JSON and stop."""
+    from fricstab.io.results import json_clean
+    doc = {"scene": _scene_dict(scene), **extra}
+    print(json.dumps(json_clean(doc), indent=2, allow_nan=False))
+    return 0
+
+
+def _result_dir(ns, name, outputs):
+    from fricstab.io.results import ResultDir
+    return ResultDir(ns.out, name, force=ns.force, resume=getattr(ns, "resume", False),
+                     outputs=outputs)
+
+
+def _meta(scene, ns, seconds):
+    """Keys of the record common to the chain commands (before the provenance)."""
+    return {"scene": _scene_dict(scene), "paper_time_unit": PAPER_TIME_UNIT}
+
+
+def _finish(rd, doc, scene, ns, argv, extra_params):
+    params = {**_scene_dict(scene), **extra_params}
+    return rd.finish(doc, parameters=params, seed=getattr(ns, "seed", None), argv=argv)
+
+
+def _ramp(ns, argv):
+    from tqdm import tqdm
+
+    from fricstab.errors import check_finite
+    from fricstab.protocols.ramp import run_ramp
+
+    scene = _scene(ns)
+    _check_ramp_steps(ns.fx_max, ns.step, "--fx-max")
+    protocol = {"fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol}
+    rd = _result_dir(ns, "ramp", ["ramp.npz", "ramp.png"])
+    if ns.dry_run:
+        return _dry_run(ns, scene, protocol)
+    rd.create()
+    steps = int(round(ns.fx_max / ns.step)) + 1
+    with rd.stage("ramp"), tqdm(total=steps, desc="ramp", unit="step",
+                                disable=ns.no_progress or None, file=sys.stderr) as bar:
+        res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar)
+    check_finite("eigenvalue of M^-1 J", res.eigenvalues, item="ramp step")
+    check_finite("force residual", res.residual, item="ramp step")
+    unit2 = scene.mass * 2 * scene.radius / scene.kn  # eigenvalues in paper units
+    events = [{"kind": e.kind, "fx": e.fx, "fx_lo": e.fx_lo, "fx_hi": e.fx_hi,
+               "located": e.located, "bisections": e.bisections,
+               "pair_real_part_paper_units": e.pair_center * unit2} for e in res.events]
+    doc = {"protocol_description": "quasistatic ramp, Newton relaxation from the previous step",
+           **protocol, "events": events,
+           "max_residual": float(res.residual.max()), **_meta(scene, ns, res.seconds)}
+    with rd.stage("write"):
+        rd.write_npz("ramp.npz", fx=res.fx, eigenvalues=res.eigenvalues,
+                     condition=res.condition, residual=res.residual, growth=res.growth,
+                     eigenvalue_unit=unit2)
+        rd.write_png("ramp.png", lambda tmp: _figure(res, events, unit2, tmp))
+    _finish(rd, doc, scene, ns, argv, protocol)
+    out = rd.path
+    print(f"{len(events)} complex-pair events in F_x in [0, {ns.fx_max:g}] "
+          f"({res.seconds:.1f} s); max residual {res.residual.max():.1e}")
+    for e in events:
+        flag = "" if e["located"] else "  (not located: refine --step)"
+        print(f"  {e['kind']:5s} at F_x = {e['fx']:.7f} +- {0.5 * (e['fx_hi'] - e['fx_lo']):.1e}{flag}")
+    print(f"wrote {out}/ramp.json, ramp.npz, ramp.png")
+    return 0
+
+
+def _figure(res, events, unit2, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    w = res.eigenvalues * unit2
+    top.plot(res.fx, w.real, color="0.75", lw=0.6)
+    cplx = np.where(np.abs(w.imag) > 0, w.real, np.nan)
+    top.plot(res.fx, cplx, color="C3", lw=1.4)
+    bottom.plot(res.fx, np.where(w.imag > 0, w.imag, np.nan), color="C3", lw=1.4)
+    for e in events:
+        for ax in (top, bottom):
+            ax.axvline(e["fx"], color="C0" if e["kind"] == "birth" else "C2", lw=0.6, ls="--")
+    top.set_ylabel("Re eigenvalue of $M^{-1}J$ (paper units)")
+    bottom.set_ylabel("Im eigenvalue (paper units)")
+    bottom.set_xlabel("$F_x$")
+    top.set_title("Chain ramp: complex pairs (red); births blue, deaths green")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120, format="png")
+    plt.close(fig)
+
+
+def _ramped_equilibrium(scene, fx, step):
+    """Newton ramp from 0 to fx in steps <= step; None if a step fails."""
+    from fricstab.errors import check_finite
+    state = relax_newton(scene, initial_state(scene)).state
+    n_steps = max(1, int(np.ceil(abs(fx) / step)))
+    for f in np.linspace(0.0, fx, n_steps + 1)[1:]:
+        res = relax_newton(scene.with_fx(f), state)
+        if not res.converged:
+            print(f"fricstab: error: no equilibrium at F_x = {f:.6g} "
+                  f"(residual {res.residual:.1e})", file=sys.stderr)
+            return None
+        state = res.state
+    check_finite("equilibrium position", state.q, item="disk", components=("x", "y", "theta"))
+    return state
+
+
+def _jacobian(ns, argv):
+    from fricstab.errors import check_finite
+
+    scene = _scene(ns)
+    _check_ramp_steps(ns.fx, ns.step, "--fx")
+    protocol = {"fx": ns.fx, "step": ns.step}
+    rd = _result_dir(ns, "jacobian", ["state.npz", "jacobian.npy"])
+    if ns.dry_run:
+        return _dry_run(ns, scene, protocol)
+    rd.create()
+    with rd.stage("equilibrium"):
+        state = _ramped_equilibrium(scene, ns.fx, ns.step)
+    if state is None:
+        return 4
+    loaded = scene.with_fx(ns.fx)
+    with rd.stage("jacobian"):
+        f, jac = forces_and_jacobian(loaded, state)
+    check_finite("force", f, item="disk", components=("F_x", "F_y", "T"))
+    check_finite("Jacobian entry", jac, item="row")
+    export_state(loaded, state, jac, rd.path)
+    _finish(rd, {"max_force": float(np.abs(f).max()), "shape": list(jac.shape),
+                 **_meta(scene, ns, 0.0)}, scene, ns, argv, protocol)
+    print(f"equilibrium at F_x = {ns.fx:g}: max |F| = {np.abs(f).max():.1e}; "
+          f"wrote {rd.path}/state.npz, jacobian.npy, jacobian.json")
+    return 0
+
+
+def _dynamics(ns, argv):
+    from tqdm import tqdm
+
+    from fricstab.io.checkpoint import Checkpointer
+    from fricstab.protocols.dynamics import _default_dt, run_dynamics
+    from fricstab.analysis.observables import centre_of_mass, first_breach, msd, paper_time
+    from fricstab.protocols.waves import first_slide
+
+    scene = _scene(ns)
+    if not 0 <= ns.disk < scene.n:
+        raise ParameterError(f"--disk must be in [0, {scene.n - 1}], got {ns.disk}")
+    _check_ramp_steps(ns.fx, ns.step, "--fx")
+    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    dt = _default_dt(scene, 0.02)
+    n_steps = ns.duration * unit / dt
+    if not n_steps <= MAX_VERLET_STEPS:
+        raise ParameterError(f"--duration {ns.duration:g} needs {n_steps:.3g} Verlet steps "
+                             f"for this scene; at most {MAX_VERLET_STEPS:.0e}")
+    every = ns.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
+    protocol = {"fx": ns.fx, "step": ns.step, "seed": ns.seed, "amplitude": ns.amplitude,
+                "duration_paper_units": ns.duration, "dt": dt, "frames": 4000,
+                "checkpoint_every": every, "export": ns.export}
+    rd = _result_dir(ns, "dynamics", ["dynamics.npz", "dynamics.png"])
+    if ns.export is not None:
+        _export_module()
+    if ns.dry_run:
+        return _dry_run(ns, scene, {**protocol, "verlet_steps": int(np.ceil(n_steps))})
+    rd.create()
+    fingerprint = {**_scene_dict(scene), **{k: v for k, v in protocol.items()
+                                            if k not in ("checkpoint_every", "export")}}
+    ck = Checkpointer(rd.path / "checkpoints", fingerprint)
+    resume = ck.latest() if ns.resume else None
+    if ns.resume and resume is None and not ns.quiet:
+        print(f"no checkpoint in {rd.path}/checkpoints: starting from the beginning",
+              file=sys.stderr)
+    with rd.stage("equilibrium"):
+        state = _ramped_equilibrium(scene, ns.fx, ns.step)
+    if state is None:
+        return 4
+    loaded = scene.with_fx(ns.fx)
+    rng = np.random.default_rng(ns.seed)
+    start = state.copy()
+    start.q += ns.amplitude * (scene.fy / scene.kn) ** (2 / 3) * rng.standard_normal(state.q.shape)
+    with rd.stage("dynamics"), tqdm(total=int(np.ceil(n_steps)), desc="dynamics", unit="step",
+                                    unit_scale=True, disable=ns.no_progress or None,
+                                    file=sys.stderr) as bar:
+        res = run_dynamics(loaded, start, dt=dt, duration=ns.duration * unit, frames=4000,
+                           checkpointer=ck, checkpoint_every=every, resume=resume,
+                           progress=bar)
+    t = paper_time(scene, res.times)
+    m = msd(res.positions)
+    com = centre_of_mass(res.positions)
+    tau, x_tau = first_breach(loaded, res.times, res.positions, res.wall_t)
+    tau_s, x_s = first_slide(scene, t, res.positions, state.q)
+    doc = {"protocol_description": "Newton ramp to F_x, seeded perturbation, undamped "
+                                   "velocity Verlet",
+           "fx": ns.fx, "seed": ns.seed, "amplitude": ns.amplitude,
+           "duration_paper_units": ns.duration, "time_unit": PAPER_TIME_UNIT,
+           "resumed_from_step": None if resume is None else int(resume["step"]),
+           "first_breach_paper_time": [None if np.isnan(v) else float(v)
+                                       for v in paper_time(scene, tau)],
+           "first_breach_x": [None if np.isnan(v) else float(v) for v in x_tau],
+           "first_slide_paper_time": [None if np.isnan(v) else float(v) for v in tau_s],
+           "slide_threshold_2R": 0.02,
+           "final_msd": float(m[-1]), **_meta(scene, ns, res.seconds)}
+    with rd.stage("write"):
+        rd.write_npz("dynamics.npz", time=t, positions=res.positions, velocities=res.velocities,
+                     wall_t=res.wall_t, msd=m, centre_of_mass=com,
+                     first_breach_time=paper_time(scene, tau), first_breach_x=x_tau)
+        rd.write_png("dynamics.png",
+                     lambda tmp: _dynamics_figure(t, m, com, res.positions, ns.disk, tmp))
+        if ns.export is not None:
+            _export_trajectory(rd, ns.export, scene, t, res.positions, res.velocities)
+    _finish(rd, doc, scene, ns, argv, protocol)
+    ck.clear()
+    print(f"dynamics at F_x = {ns.fx:g} for {ns.duration:g} time units ({res.seconds:.1f} s): "
+          f"final M(t) = {m[-1]:.3e}; disks at the Coulomb limit: {int(np.sum(~np.isnan(tau)))}"
+          f"/{scene.n}; wrote {rd.path}/dynamics.json, dynamics.npz, dynamics.png")
+    return 0
+
+
+def _export_module():
+    try:
+        from fricstab.io import export
+    except ImportError:
+        raise ParameterError("--export: fricstab.io.export is not available in this "
+                             "installation") from None
+    return export
+
+
+def _export_trajectory(rd, kind, scene, t, positions, velocities):
+    """Trajectory for OVITO: x, y (z = 0), radius, angle theta, velocities, omega."""
+    export = _export_module()
+    pos = positions[:, :, :2]
+    radius = np.full(scene.n, scene.radius)
+    box = (scene.period, 4 * scene.radius)    # periodic in x; y spans the disks above the wall
+    kw = dict(angle=positions[:, :, 2], vel=velocities[:, :, :2], omega=velocities[:, :, 2],
+              kind=np.zeros(scene.n, dtype=int), box=box, time=t)
+    if kind == "xyz":
+        rd.write_with("trajectory.xyz", lambda tmp: export.write_extxyz(tmp, pos, radius, **kw))
+    else:
+        rd.write_with("trajectory.dump",
+                      lambda tmp: export.write_lammps_dump(tmp, pos, radius, **kw))
+
+
+def _dynamics_figure(t, m, com, positions, disk, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
+    axes[0].semilogy(t[1:], m[1:])  # M(0) = 0
+    axes[0].set_xlabel("t (paper units)")
+    axes[0].set_ylabel("M(t)")
+    axes[0].set_title("mean-square displacement (Fig. 3)")
+    sc = axes[1].scatter(positions[:, disk, 0], positions[:, disk, 1], c=t, s=1, cmap="viridis")
+    fig.colorbar(sc, ax=axes[1], label="t (paper units)")
+    axes[1].set_xlabel("x")
+    axes[1].set_ylabel("y")
+    axes[1].set_title(f"trajectory of disk {disk} (Fig. 4)")
+    axes[2].plot(t, com[:, 0] - com[0, 0], label="x")
+    axes[2].plot(t, com[:, 1] - com[0, 1], label="y")
+    axes[2].set_xlabel("t (paper units)")
+    axes[2].set_ylabel("centre of mass - initial")
+    axes[2].legend()
+    axes[2].set_title("centre of mass (Fig. 7)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, format="png")
+    plt.close(fig)
+
+
+def _waves(ns, argv):
+    from fricstab.scenes.chain import mass_vector
+    from fricstab.io.ensemble import run_ensemble
+    from fricstab.analysis.modes import transverse_mode
+    from fricstab.analysis.spectrum import decompose
+    from fricstab.protocols.waves import fit_waves, realization_from_arrays, realization_member, wave_figure
+
+    if ns.realizations < 2:
+        raise ParameterError(f"--realizations must be >= 2, got {ns.realizations}")
+    if ns.realizations > 100_000:
+        raise ParameterError(f"--realizations must be <= 100000, got {ns.realizations}")
+    if ns.workers is not None and not 1 <= ns.workers <= 1024:
+        raise ParameterError(f"--workers must be an integer in [1, 1024], got {ns.workers}")
+    scene = _scene(ns)
+    for fx in ns.fx:
+        _check_ramp_steps(fx, ns.step, "--fx")
+    fxs = list(dict.fromkeys(ns.fx))
+    protocol = {"fx": fxs, "step": ns.step, "realizations": ns.realizations, "seed": ns.seed,
+                "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
+                "scheduler": ns.scheduler}
+    rd = _result_dir(ns, "waves", ["waves.npz", "waves.png"])
+    if ns.dry_run:
+        return _dry_run(ns, scene, protocol)
+    rd.create()
+    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    seeds = range(ns.seed, ns.seed + ns.realizations)
+    members, equilibria = {}, {}
+    with rd.stage("equilibria"):
+        for fx in fxs:
+            eq = _ramped_equilibrium(scene, fx, ns.step)
+            if eq is None:
+                return 4
+            equilibria[fx] = eq
+            for seed in seeds:
+                members[f"fx{fx:g}_seed{seed}"] = dict(
+                    scene=scene.with_fx(fx), equilibrium=eq, seed=seed, duration=ns.duration,
+                    slide_threshold=ns.slide_threshold)
+    with rd.stage("realizations"):
+        stored = run_ensemble(realization_member, members, rd.path, scheduler=ns.scheduler,
+                              workers=ns.workers, progress=not ns.no_progress, desc="waves")
+    results, all_reals, arrays = [], {}, {}
+    with rd.stage("fits"):
+        for fx in fxs:
+            sc, eq = scene.with_fx(fx), equilibria[fx]
+            reals = [realization_from_arrays(stored[f"fx{fx:g}_seed{seed}"]) for seed in seeds]
+            all_reals[fx] = reals
+            fit = fit_waves(reals)
+            _, jac = forces_and_jacobian(sc, eq)
+            w = decompose(jac, mass_vector(scene), vectors=False).eigenvalues
+            growth = float(np.abs(np.sqrt(w.astype(complex)).real).max()) * unit
+            mode = transverse_mode(sc, eq)
+            results.append({"fx": fx, "v1": fit.v1, "v1_err": fit.v1_err, "v2": fit.v2,
+                            "v2_err": fit.v2_err, "v_com": fit.v_com, "v_com_err": fit.v_com_err,
+                            "growth_rate": growth, "v1_over_growth": fit.v1 / growth,
+                            "v2_predicted_transverse": mode.speed,
+                            "transverse_omega": mode.omega,
+                            "transverse_wavelength": mode.wavelength,
+                            "breached_fraction": fit.breached_fraction})
+            for key in ("tau", "x_tau", "tau_slide", "x_slide"):
+                arrays[f"{key}_fx{fx:g}"] = np.array([getattr(r, key) for r in reals])
+    doc = {"realizations": ns.realizations,
+           "seeds": f"{ns.seed}..{ns.seed + ns.realizations - 1}",
+           "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
+           "units": "length 2R, time " + PAPER_TIME_UNIT, "results": results,
+           "members": "members/<fx>_seed<seed>.npz, one per realization"}
+    if len(fxs) >= 2:
+        slope, intercept = np.polyfit(fxs, [r["v_com"] for r in results], 1)
+        doc["v_com_fit"] = {"intercept": float(intercept), "slope": float(slope)}
+    doc.update(_meta(scene, ns, 0.0))
+    with rd.stage("write"):
+        rd.write_npz("waves.npz", **arrays)
+        rd.write_png("waves.png", lambda tmp: wave_figure(all_reals, tmp))
+    _finish(rd, doc, scene, ns, argv, protocol)
+    for r in results:
+        print(f"F_x = {r['fx']:g}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "
+              f"V2 = {r['v2']:.3f} +- {r['v2_err']:.3f}, v_cm = {r['v_com']:.2e}")
+    print(f"wrote {rd.path}/waves.json, waves.npz, waves.png, members/")
+    return 0
+
+
+def run(ns, argv=None):
+    """Run ``fricstab chain ...``; ``argv`` (the command's arguments) goes into the record."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if ns.chain_command == "waves":
+        return _waves(ns, argv)
+    if ns.chain_command == "ramp":
+        return _ramp(ns, argv)
+    if ns.chain_command == "dynamics":
+        return _dynamics(ns, argv)
+    return _jacobian(ns, argv)

@@ -1,0 +1,1 @@
+"""The one DEM engine: space, particles, contacts and history, forces, integrators, Jacobian."""

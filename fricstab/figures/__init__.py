@@ -1,0 +1,1 @@
+"""Figures of the command line, with units on every axis."""

@@ -1,0 +1,1 @@
+"""Input and output: scene files, result directories, checkpoints, frames, exports, ensembles."""

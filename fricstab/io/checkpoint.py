@@ -1,0 +1,120 @@
+"""Atomic NPZ checkpoints of long runs, and the lookup of the latest one.
+
+A checkpoint is ``<dir>/ckpt_<step, 12 digits>.npz`` holding the arrays the
+run needs to continue (all of its state: positions, velocities, histories,
+the frames recorded so far, the step counter ``step``) and a fingerprint: the
+JSON of the run's validated parameters.  Files are written to a temporary
+name and renamed, so a run killed at any moment (even by SIGKILL) leaves
+complete checkpoints only; the latest ``keep`` are kept.
+
+Resuming a run with other parameters than those of its checkpoint is an
+error (:class:`fricstab.laws.ParameterError` naming the first differing key):
+the continued run would not be the run that was asked for.
+"""
+
+import json
+import re
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from fricstab.scenes.chain_io import atomic_write
+from fricstab.laws import ParameterError
+
+__all__ = ["Checkpointer"]
+
+_NAME = re.compile(r"^ckpt_(\d{12})\.npz$")
+
+
+def _fingerprint_text(fingerprint):
+    from fricstab.io.results import json_clean
+    return json.dumps(json_clean(fingerprint), sort_keys=True, allow_nan=False)
+
+
+class Checkpointer:
+    """Save and find checkpoints in ``directory``.
+
+    Parameters
+    ----------
+    directory : path-like
+        Folder of the checkpoints (created on the first save).
+    fingerprint : dict
+        JSON-able parameters of the run; stored with every checkpoint and
+        compared on :meth:`latest`.
+    keep : int
+        Number of most recent checkpoints kept (>= 1).
+    """
+
+    def __init__(self, directory, fingerprint, keep=2):
+        self.directory = Path(directory)
+        self.fingerprint = fingerprint
+        self._text = _fingerprint_text(fingerprint)
+        self.keep = max(1, int(keep))
+
+    def _files(self):
+        if not self.directory.is_dir():
+            return []
+        found = [(int(m.group(1)), p) for p in self.directory.iterdir()
+                 if (m := _NAME.match(p.name))]
+        return [p for _, p in sorted(found)]
+
+    def save(self, step, **arrays):
+        """Write checkpoint ``step`` with ``arrays`` atomically; prune old ones; its path."""
+        self.directory.mkdir(parents=True, exist_ok=True)
+        path = self.directory / f"ckpt_{int(step):012d}.npz"
+
+        def write(tmp):
+            with open(tmp, "wb") as fh:
+                np.savez(fh, step=np.int64(step), fingerprint=np.array(self._text), **arrays)
+
+        atomic_write(path, write)
+        for old in self._files()[:-self.keep]:
+            old.unlink(missing_ok=True)
+        return path
+
+    def latest(self):
+        """The latest readable checkpoint as a dict of arrays (with ``step``), or None."""
+        for p in self._leftovers():
+            p.unlink(missing_ok=True)
+        for path in reversed(self._files()):
+            try:
+                with np.load(path, allow_pickle=False) as z:
+                    data = {k: z[k] for k in z.files}
+            except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError):
+                continue   # cannot happen with atomic writes; a damaged file is skipped
+            stored = str(data.pop("fingerprint", ""))
+            if stored != self._text:
+                raise ParameterError(f"--resume: the checkpoint {path} was made with other "
+                                     f"parameters ({self._difference(stored)}); rerun with "
+                                     "the same parameters, or use --force to start afresh")
+            data["path"] = str(path)
+            return data
+        return None
+
+    def _difference(self, stored):
+        try:
+            old = json.loads(stored)
+        except ValueError:
+            return "unreadable fingerprint"
+        new = json.loads(self._text)
+        if isinstance(old, dict) and isinstance(new, dict):
+            for key in sorted(set(old) | set(new)):
+                if old.get(key) != new.get(key):
+                    return f"{key}: {old.get(key)!r} there, {new.get(key)!r} now"
+        return "different fingerprint"
+
+    def _leftovers(self):
+        """Temporary files of writes killed mid-way (SIGKILL); never complete checkpoints."""
+        if not self.directory.is_dir():
+            return []
+        return [p for p in self.directory.glob(".ckpt_*.tmp")]
+
+    def clear(self):
+        """Remove every checkpoint (after the result is complete)."""
+        for p in self._files() + self._leftovers():
+            p.unlink(missing_ok=True)
+        try:
+            self.directory.rmdir()
+        except OSError:
+            pass

@@ -1,0 +1,298 @@
+"""Scene schemas: every key of a scene file, with its type, default, unit and range.
+
+A scene is a flat table of parameters, read from TOML (keys at the top level
+or under a table named after the scene, e.g. ``[chain]``), then overridden by
+command-line options, then validated against the scene's :class:`Schema`.
+Validation happens before any work: an unknown key, a wrong type or a value
+out of range raises :class:`fricstab.laws.ParameterError` with one line
+naming the key, the value and what is allowed.
+
+Types (``Field.type``)
+----------------------
+``int``     a TOML integer (never a boolean; ``32.0`` is not an integer).
+``float``   a finite TOML number (integers accepted, returned as float).
+``str``     a string, usually one of ``choices``.
+``bool``    ``true`` or ``false``.
+``floats``  a finite number or a non-empty list of them (returned as a list).
+
+Registering a scene
+-------------------
+A protocol module registers its schema at import time::
+
+    from fricstab.io.scenes import Field, Schema, register
+    register(Schema("shear", "plane shear cell", (
+        Field("mu_s", "float", 0.7, "-", "sliding friction coefficient", low=0.0),
+    )))
+
+``fricstab scene show NAME`` prints :func:`show` for it.
+"""
+
+import math
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from fricstab.laws import ParameterError
+
+__all__ = ["Field", "Schema", "register", "get", "names", "load_toml", "validate",
+           "resolve", "show"]
+
+TYPES = ("int", "float", "str", "bool", "floats")
+_REGISTRY = {}
+
+
+def _short(value, limit=60):
+    """``repr`` on one line, cut to ``limit`` characters (messages stay one line)."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+@dataclass(frozen=True)
+class Field:
+    """One scene key.
+
+    Parameters
+    ----------
+    key : str
+        The key in the scene file; the command-line option is ``--key`` with
+        ``_`` written ``-`` unless ``cli`` names another.
+    type : {'int', 'float', 'str', 'bool', 'floats'}
+    default : object
+        Value when neither the scene file nor the command line gives one;
+        ``None`` means derived from other keys (``default_doc`` says how).
+    unit : str
+        Physical unit, ``-`` when dimensionless.
+    doc : str
+        One line on what the key does (and what it trades, for numerical knobs).
+    low, high : float, optional
+        Range bounds; inclusive unless ``low_open`` / ``high_open``.
+    choices : tuple of str, optional
+        Allowed values of a ``str`` key.
+    """
+
+    key: str
+    type: str
+    default: object
+    unit: str
+    doc: str
+    low: float = None
+    high: float = None
+    low_open: bool = False
+    high_open: bool = False
+    choices: tuple = None
+    default_doc: str = None
+    cli: str = None
+    check: object = None      # extra predicate on the typed value (each item of ``floats``)
+    check_doc: str = None     # its words, appended to :meth:`allowed`
+
+    def __post_init__(self):
+        if self.type not in TYPES:
+            raise ValueError(f"Field {self.key}: type must be one of {TYPES}, got {self.type!r}")
+
+    @property
+    def option(self):
+        return self.cli or "--" + self.key.replace("_", "-")
+
+    def allowed(self):
+        """The allowed values, in words (used in error messages and :func:`show`)."""
+        base = self._allowed()
+        return f"{base}, {self.check_doc}" if self.check_doc else base
+
+    def _allowed(self):
+        if self.type == "bool":
+            return "true or false"
+        if self.type == "str":
+            return ("one of " + ", ".join(self.choices)) if self.choices else "a string"
+        noun = {"int": "an integer", "float": "a finite number",
+                "floats": "a finite number or a non-empty list of them"}[self.type]
+        lo = None if self.low is None else ("> " if self.low_open else ">= ") + f"{self.low:g}"
+        hi = None if self.high is None else ("< " if self.high_open else "<= ") + f"{self.high:g}"
+        if lo and hi:
+            if self.type == "floats":
+                return f"{noun}, each in {'(' if self.low_open else '['}{self.low:g}, " \
+                       f"{self.high:g}{')' if self.high_open else ']'}"
+            return f"{noun} in {'(' if self.low_open else '['}{self.low:g}, " \
+                   f"{self.high:g}{')' if self.high_open else ']'}"
+        bound = lo or hi
+        if bound is None:
+            return noun
+        return f"{noun}{', each' if self.type == 'floats' else ''} {bound}"
+
+    def _in_range(self, v):
+        if self.low is not None and (v < self.low or (self.low_open and v == self.low)):
+            return False
+        if self.high is not None and (v > self.high or (self.high_open and v == self.high)):
+            return False
+        return True
+
+    def convert(self, value):
+        """The typed value, or None when ``value`` is not allowed."""
+        if self.type == "bool":
+            return value if isinstance(value, bool) else None
+        if self.type == "str":
+            if not isinstance(value, str) or (self.choices and value not in self.choices):
+                return None
+            return value
+        if self.type == "int":
+            if isinstance(value, bool) or not isinstance(value, int) or not self._in_range(value):
+                return None
+            if self.check is not None and not self.check(value):
+                return None
+            return int(value)
+        items = value if self.type == "floats" and isinstance(value, list) else [value]
+        if self.type == "floats" and not items:
+            return None
+        out = []
+        for v in items:
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                return None
+            try:
+                x = float(v)
+            except OverflowError:   # an integer beyond the float range
+                return None
+            if not math.isfinite(x) or not self._in_range(x):
+                return None
+            if self.check is not None and not self.check(x):
+                return None
+            out.append(x)
+        return out if self.type == "floats" else out[0]
+
+
+@dataclass(frozen=True)
+class Schema:
+    """The keys of one scene: ``name`` (also the TOML table name), a title, the fields."""
+
+    name: str
+    title: str
+    fields: tuple
+
+    def field(self, key):
+        for f in self.fields:
+            if f.key == key:
+                return f
+        return None
+
+    @property
+    def keys(self):
+        return tuple(f.key for f in self.fields)
+
+
+def register(schema):
+    """Make ``schema`` known to :func:`get`, :func:`validate` and ``fricstab scene show``."""
+    _REGISTRY[schema.name] = schema
+    return schema
+
+
+def get(name):
+    """The registered :class:`Schema` called ``name``."""
+    _load_builtin()
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise ParameterError(f"unknown scene {_short(name)}; known scenes: "
+                             f"{', '.join(names())}") from None
+
+
+def names():
+    """Names of the registered scenes, sorted."""
+    _load_builtin()
+    return sorted(_REGISTRY)
+
+
+def _load_builtin():
+    """Import the protocol modules that register their scenes (once)."""
+    import importlib
+    for mod in ("fricstab.scenes.chain_io", "fricstab.cli.packing", "fricstab.cli.shear"):
+        try:
+            importlib.import_module(mod)
+        except ImportError:  # a protocol that is not installed has no scene
+            pass
+
+
+def load_toml(name, path):
+    """The key/value pairs of a TOML scene file (top level or under ``[name]``)."""
+    schema = get(name)
+    if path is None:
+        return {}
+    label = f"scene file {path}"
+    try:
+        data = tomllib.loads(Path(path).expanduser().read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ParameterError(f"--scene: scene file {path} does not exist") from None
+    except IsADirectoryError:
+        raise ParameterError(f"--scene: {path} is a directory, not a TOML file") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError, ValueError) as exc:
+        raise ParameterError(f"--scene: {path} is not valid TOML: "
+                             f"{_short(str(exc), 120).strip(chr(39) + chr(34))}") from None
+    except OSError as exc:
+        raise ParameterError(f"--scene: cannot read {path}: {exc.strerror or exc}") from None
+    values = {k: v for k, v in data.items() if k != schema.name}
+    if schema.name in data:
+        table = data[schema.name]
+        if not isinstance(table, dict):
+            raise ParameterError(f"{label}: key {schema.name!r} must be a table "
+                                 f"([{schema.name}]), got {_short(table)}")
+        values.update(table)
+    for key in values:
+        if key not in schema.keys:
+            raise ParameterError(f"{label}: unknown key {_short(key)}; known keys: "
+                                 f"{', '.join(schema.keys)}")
+    return {"__source__": label, **values}
+
+
+def validate(name, mapping, *, source="scene"):
+    """Every key of scene ``name``, typed and checked; defaults where ``mapping`` has none.
+
+    ``mapping`` may hold ``"__labels__"``: key -> label used in messages
+    (e.g. ``--mu`` for a command-line value); otherwise ``source`` names it.
+    """
+    schema = get(name)
+    labels = dict(mapping.get("__labels__", {}))
+    source = mapping.get("__source__", source)
+    out = {}
+    for key, value in mapping.items():
+        if key in ("__labels__", "__source__"):
+            continue
+        f = schema.field(key)
+        if f is None:
+            raise ParameterError(f"{source}: unknown key {_short(key)}; known keys: "
+                                 f"{', '.join(schema.keys)}")
+        typed = f.convert(value)
+        if typed is None and not (value is None and f.default is None):
+            label = labels.get(key, f"{source}: key {key!r}")
+            raise ParameterError(f"{label} = {_short(value)} is not allowed; allowed: "
+                                 f"{f.allowed()}" + (f" [{f.unit}]" if f.unit != "-" else ""))
+        out[key] = typed
+    for f in schema.fields:
+        out.setdefault(f.key, list(f.default) if isinstance(f.default, list) else f.default)
+    return out
+
+
+def resolve(name, path=None, overrides=None):
+    """Scene file ``path`` (may be None), then ``overrides`` (None values ignored), validated."""
+    mapping = load_toml(name, path)
+    labels = {}
+    schema = get(name)
+    for key, value in (overrides or {}).items():
+        if value is None:
+            continue
+        f = schema.field(key)
+        labels[key] = f.option if f is not None else "--" + key.replace("_", "-")
+        mapping[key] = value
+    mapping["__labels__"] = labels
+    return validate(name, mapping)
+
+
+def show(name):
+    """A text table of scene ``name``: key, type, default, unit, allowed values, doc."""
+    schema = get(name)
+    lines = [f"scene {schema.name!r}: {schema.title}",
+             f"TOML keys at the top level or under [{schema.name}]; command-line options "
+             "override them.", ""]
+    for f in schema.fields:
+        default = f.default_doc if f.default is None and f.default_doc else f.default
+        option = "scene file only" if f.cli == "" else f"option {f.option}"
+        lines.append(f"{f.key}  ({f.type}, default {default}, unit {f.unit}, {option})")
+        lines.append(f"    allowed: {f.allowed()}")
+        lines.append(f"    {f.doc}")
+    return "\n".join(lines)

@@ -1,0 +1,454 @@
+"""Proof of the generated ``lee_hurley`` blocks against independent references.
+
+The same four references as :mod:`fricstab.laws.verify` (which serves the
+``(kn, kt, mu, t)`` family), for the Lee & Hurley law with capped scalar
+histories and the implicit contact width:
+
+* complex step through the generated force kernel compiled for complex128
+  (``h = 1e-20 L``), which differentiates through the Newton solver of the
+  contact width (:func:`fricstab._numerics.cylinder_lambda`, whose last step
+  runs in complex arithmetic) and through the caps (the branch is chosen on
+  real parts);
+* float64 central differences at the best step of a sweep;
+* central differences of the generated force source in 50-digit arithmetic
+  (``mpmath``), with the contact width from Lambert W (an independent
+  solution of Eq. A2: ``lam = -W_{-1}(-e delta/(4 (R_i + R_j)))``);
+* a Taylor test in 50 digits, remainder slope 2.
+
+Every perturbation moves q and advances the trial histories by the increment
+rule written here by hand from the paper, independently of the SymPy source:
+``d ft = k_t d delta_t``, ``d delta_t = t . (dr_i - dr_j) - (R_i dth_i + R_j dth_j)``
+with ``t = (-n_y, n_x)`` and Lai's ``k_t`` (A8, A9) at the base point, and
+``d mr = -k_r (dth_i - dth_j)`` (A14, A15).
+
+Cases (:class:`ShearCase`) are dimensionless: ``E* = 1``, ``R_i = 0.5``; the
+histories are multiples of their caps, ``ft = t_ratio mu_s F_n``,
+``mr = r_ratio mu_r R_r F_n`` (a ratio above 1 is a sliding contact).
+Ratios within 1e-6 of 1 are kept out of the difference checks (a step would
+cross the cap, where the block jumps by design); the caps are tested by their
+one-sided limits in tests/test_lee_hurley.py.
+
+Run ``python -m fricstab.laws.verify_lee_hurley --cases 2000 --json out.json``.
+"""
+
+import argparse
+import json
+import math
+import sys
+import types
+from dataclasses import asdict, dataclass
+
+import mpmath
+import numpy as np
+
+from fricstab._numerics import contact_halfwidth, overlap_correction
+from fricstab.generated import lee_hurley as _gen
+from fricstab.laws.verify import (  # the bounds and steps of the kernel proofs, shared
+    CENTRAL_BOUND, COMPLEX_STEP, EPS, EXACT_BOUND, MP_DPS, MP_STEP, ROUNDING_ULPS,
+    TAYLOR_STEPS, pick_extreme, row_relative_error)
+
+__all__ = ["EXTREMES", "failures", "REGIMES", "ShearCase", "case_inputs", "complex_step_jacobian",
+           "central_jacobian", "central_resolvable", "exact_bound", "generated_jacobian", "lai_kt",
+           "mp_central_jacobian", "reference_increment", "sample_cases", "taylor_slope",
+           "verify_case", "verify_cases", "main"]
+
+#: Central-difference steps, times the column length: 1e-1 down to 1e-12 (the
+#: other laws go down to 1e-14).
+CENTRAL_STEPS = tuple(10.0 ** (-k / 2) for k in range(2, 25))
+
+#: Ranges of the configuration space (ends sampled exactly).  The overlap is
+#: relative to the smaller radius; Lai's k_t fit stays positive to
+#: delta/R ~ 0.3 over these ranges, so 0.1 is the verified top.
+EXTREMES = {
+    "delta_over_R": (1e-12, 1e-1),
+    "radius_ratio": (0.2, 5.0),
+    "nu": (0.0, 0.49),
+    "mus": (0.01, 2.0),
+    "mur": (1e-4, 0.5),
+}
+#: (tangential slides, rolling slides) per regime.
+REGIMES = {"stick": (False, False), "slide_t": (True, False),
+           "slide_r": (False, True), "slide_both": (True, True)}
+LAW_INPUTS = _gen.INPUTS
+
+
+@dataclass(frozen=True)
+class ShearCase:
+    """One dimensionless ``lee_hurley`` configuration (module docstring)."""
+
+    delta_over_R: float
+    radius_ratio: float
+    phi: float
+    nu: float
+    mus: float
+    mur: float
+    t_ratio: float
+    r_ratio: float
+
+
+def _pick(rng, key, p, log=True):
+    return pick_extreme(rng, *EXTREMES[key], p, log)
+
+
+def _ratio(rng, slides, p):
+    """|ratio| in [0, 1 - 1e-6] (stick) or [1 + 1e-6, 1e3] (slide), random sign."""
+    u = rng.uniform()
+    if slides:
+        mag = 1 + 1e-6 if u < p / 2 else (1e3 if u < p else math.exp(rng.uniform(1e-6, math.log(1e3))))
+    else:
+        mag = 0.0 if u < p / 2 else (1 - 1e-6 if u < p else rng.uniform(0.0, 1 - 1e-6))
+    return float(mag if rng.uniform() < 0.5 else -mag)
+
+
+def sample_cases(n, seed, p_extreme=0.15):
+    """``n`` cases, a quarter in each regime of :data:`REGIMES`, seeded."""
+    rng = np.random.default_rng(seed)
+    names = list(REGIMES)
+    out = []
+    for k in range(n):
+        st, sr = REGIMES[names[k % 4]]
+        out.append(ShearCase(
+            delta_over_R=_pick(rng, "delta_over_R", p_extreme),
+            radius_ratio=_pick(rng, "radius_ratio", p_extreme),
+            phi=float(rng.uniform(0.0, 2 * math.pi)),
+            nu=_pick(rng, "nu", p_extreme, log=False),
+            mus=_pick(rng, "mus", p_extreme), mur=_pick(rng, "mur", p_extreme),
+            t_ratio=_ratio(rng, st, p_extreme), r_ratio=_ratio(rng, sr, p_extreme)))
+    return out
+
+
+def lai_kt(a, ri, rj, e_star, nu, log=math.log):
+    """Lai's tangential stiffness (Lee & Hurley Eqs. A8, A9), written by hand."""
+    def w(x):
+        return 0.22 + 2.89 * x + 0.18 * nu - 10.31 * x * x + 1.75 * x * nu + 0.36 * nu * nu
+    c = nu / (2 * (1 - nu))
+    den = (log(2 * ri / a) + log(2 * rj / a) + 1 + w(a / ri) * (log(4 * ri / a) + c)
+           + w(a / rj) * (log(4 * rj / a) + c))
+    return math.pi * e_star / den if log is math.log else mpmath.pi * e_star / den
+
+
+def _overlap(dx, dy, ri, rj):
+    naive = ri + rj - math.hypot(dx, dy)
+    return naive + overlap_correction(dx, dy, ri, rj, naive)
+
+
+def case_inputs(case, radius=0.5, e_star=1.0):
+    """Kernel arguments (``dx, dy, Ri, Rj, E, nu, mus, mur, ft, mr``) of a case."""
+    ri, rj = radius, radius * case.radius_ratio
+    r = ri + rj - case.delta_over_R * min(ri, rj)
+    dx, dy = r * math.cos(case.phi), r * math.sin(case.phi)
+    delta = _overlap(dx, dy, ri, rj)
+    a = contact_halfwidth(delta, ri, rj)
+    fn = math.pi * e_star * a * a * (ri + rj) / (4 * ri * rj)  # = k_n delta (A2, Johnson)
+    rr = ri * rj / (ri + rj)
+    return (dx, dy, ri, rj, e_star, case.nu, case.mus, case.mur,
+            case.t_ratio * case.mus * fn, case.r_ratio * case.mur * rr * fn)
+
+
+def reference_increment(args, mp=False):
+    """``d(ft, mr)/dq`` (2 x 6) from the paper's rules (module docstring)."""
+    dx, dy, ri, rj, e_star, nu = args[:6]
+    if mp:
+        r = mpmath.sqrt(dx * dx + dy * dy)
+        delta = ri + rj - r
+        lam = -mpmath.lambertw(-mpmath.e * delta / (4 * (ri + rj)), -1).real
+        a = 4 * mpmath.sqrt(ri * rj) * mpmath.exp(-(lam + 1) / 2)
+        kt = lai_kt(a, ri, rj, e_star, nu, log=mpmath.log)
+        kr = mpmath.pi * e_star * (ri * rj / (ri + rj)) ** 2 / 4
+        zero = mpmath.mpf(0)
+    else:
+        r = math.hypot(dx, dy)
+        a = contact_halfwidth(_overlap(dx, dy, ri, rj), ri, rj)
+        kt = lai_kt(a, ri, rj, e_star, nu)
+        kr = math.pi * e_star * (ri * rj / (ri + rj)) ** 2 / 4
+        zero = 0.0
+    nx, ny = dx / r, dy / r
+    return np.array([[-kt * ny, kt * nx, -kt * ri, kt * ny, -kt * nx, -kt * rj],
+                     [zero, zero, -kr, zero, zero, kr]])
+
+
+def _columns(args):
+    """Per column: ((input index, sign) of the moved centre coordinate, or None; length).
+
+    The length is the overlap delta (over the radius for a rotation), shortened
+    to a quarter of the distance to the nearer cap along that column, so that
+    no difference step crosses a cap (where the block jumps by design):
+    ``|d(|h| - cap)/dq_k| <= |A_k| + mu |dF_n/dq_k|`` with
+    ``|dF_n/dq_k| <= pi E*/(lam - 1)``.
+    """
+    dx, dy, ri, rj, e_star, nu, mus, mur, ft, mr = args[:10]
+    delta = _overlap(dx, dy, ri, rj)
+    out = np.empty(9)
+    _gen.lee_hurley_contact(*(float(x) for x in args), out)
+    _, _, kn, kt, kr, fn, _, _, _ = out
+    stiff = math.pi * e_star / (math.pi * e_star / kn - 1.0)
+    rr = ri * rj / (ri + rj)
+    gaps = (abs(mus * fn - abs(ft)), abs(mur * rr * fn - abs(mr)))
+    cols = []
+    for k in range(6):
+        p, c = divmod(k, 3)
+        sign = 1.0 if p == 0 else -1.0
+        arm = ri if p == 0 else rj
+        length = delta if c < 2 else delta / arm
+        geo = (c, sign) if c < 2 else None
+        dfn = stiff if c < 2 else 0.0
+        rates = ((kt * (1.0 if c < 2 else arm)) + mus * dfn,
+                 (kr if c == 2 else 0.0) + mur * rr * dfn)
+        for gap, rate in zip(gaps, rates):
+            if rate > 0.0:
+                length = min(length, 0.25 * gap / rate)
+        cols.append((geo, length))
+    return cols
+
+
+def central_resolvable(args):
+    """Whether float64 differences can reach 1e-6: every column length >= 1e7 ulp(r).
+
+    The rounding floor of a central difference is ~eps r / h and its truncation
+    (h / L)^2; with L >= 1e7 ulp the best step leaves both below ~1e-7.
+    """
+    r = math.hypot(args[0], args[1])
+    return all(length >= 1e7 * math.ulp(r) * (1.0 if geo is not None else 1.0 / max(args[2], args[3]))
+               for geo, length in _columns(args))
+
+
+def generated_jacobian(args):
+    """Forces and block from the generated float64 kernel."""
+    f, jac = np.empty(6), np.empty((6, 6))
+    _gen.lee_hurley_force_jacobian(*args, f, jac)
+    return f, jac
+
+
+def _moved(args, inc, k, geo, h):
+    z = list(args)
+    if geo is not None:
+        z[geo[0]] = z[geo[0]] + geo[1] * h
+    z[8] = z[8] + inc[0, k] * h
+    z[9] = z[9] + inc[1, k] * h
+    return z
+
+
+def complex_step_jacobian(args, inc):
+    """``Im F(q + i h e_k, history + i h A e_k)/h``, column by column."""
+    jac = np.empty((6, 6))
+    out = np.empty(6, dtype=complex)
+    for k, (geo, length) in enumerate(_columns(args)):
+        h = COMPLEX_STEP * length
+        z = _moved([complex(x) for x in args], inc, k, geo, 1j * h)
+        _gen.lee_hurley_force(*z, out)
+        jac[:, k] = out.imag / h
+    return jac
+
+
+def _force(args):
+    out = np.empty(6)
+    _gen.lee_hurley_force(*args, out)
+    return out
+
+
+def central_jacobian(args, inc, jac_generated):
+    """float64 central differences at the best step per column (V-curve bottom)."""
+    absj = np.abs(jac_generated)
+    scale = np.where(absj.max(axis=1) > 0, absj.max(axis=1), absj.max())
+    jac = np.empty((6, 6))
+    for k, (geo, length) in enumerate(_columns(args)):
+        best, col_best = math.inf, np.zeros(6)
+        for s in CENTRAL_STEPS:
+            h = s * length
+            if geo is not None:  # the step representable in the moved input
+                x0 = args[geo[0]]
+                h = ((x0 + geo[1] * h) - x0) * geo[1]
+                if h == 0.0:
+                    continue
+            col = (_force(_moved(args, inc, k, geo, h)) - _force(_moved(args, inc, k, geo, -h))) / (2 * h)
+            err = float(np.max(np.abs(col - jac_generated[:, k]) / scale))
+            if err < best:
+                best, col_best = err, col
+        jac[:, k] = col_best
+    return jac
+
+
+def _mp_lambda(delta, ri, rj):
+    return -mpmath.lambertw(-mpmath.e * delta / (4 * (ri + rj)), -1).real
+
+
+def _mp_function(which):
+    """The generated kernel's Python source run with mpmath numbers."""
+    py = getattr(_gen, f"lee_hurley_{which}").py_func
+    shim = types.SimpleNamespace(sqrt=mpmath.sqrt, log=mpmath.log, exp=mpmath.exp, pi=mpmath.pi)
+    names = {**py.__globals__, "np": shim, "overlap_correction": lambda *a: 0,
+             "cylinder_lambda": _mp_lambda}
+    return types.FunctionType(py.__code__, names, py.__name__)
+
+
+def mp_central_jacobian(args):
+    """Central differences of the generated force source in >= 50 digits."""
+    fn = _mp_function("force")
+    jac = np.empty((6, 6))
+    # Steps of 1e-20 L on coordinates of size r: keep 30 digits of the
+    # difference however short L is (near a cap, L ~ gap * delta).
+    shortest = min(length for _, length in _columns(args)) / math.hypot(args[0], args[1])
+    with mpmath.workdps(max(MP_DPS, int(50 - math.log10(shortest)))):
+        base = [mpmath.mpf(x) for x in args]
+        inc = reference_increment(base, mp=True)
+        for k, (geo, length) in enumerate(_columns(args)):
+            h = mpmath.mpf(MP_STEP) * mpmath.mpf(length)
+            fp, fm = [mpmath.mpf(0)] * 6, [mpmath.mpf(0)] * 6
+            fn(*_moved(base, inc, k, geo, h), fp)
+            fn(*_moved(base, inc, k, geo, -h), fm)
+            jac[:, k] = [float((p - m) / (2 * h)) for p, m in zip(fp, fm)]
+    return jac
+
+
+def taylor_slope(args, direction):
+    """Slope of ``log|F(q + h dq) - F(q) - h K dq|`` against ``log h`` in 50 digits.
+
+    ``direction`` is dq in units of each column's length; the histories move
+    by the reference increment.  Returns (slope or None, remainders), the
+    remainders relative to each row's largest block entry times |dq|.
+    """
+    fn, jfn = _mp_function("force"), _mp_function("force_jacobian")
+    cols = _columns(args)
+    dq = [d * length for d, (_, length) in zip(direction, cols)]
+    errs = []
+    with mpmath.workdps(MP_DPS):
+        base = [mpmath.mpf(x) for x in args]
+        f0 = [mpmath.mpf(0)] * 6
+        jac = np.empty((6, 6), dtype=object)
+        jfn(*base, f0, jac)
+        mdq = [mpmath.mpf(x) for x in dq]
+        lin = [mpmath.fsum(jac[a, b] * mdq[b] for b in range(6)) for a in range(6)]
+        rows = [max(abs(jac[a, b]) for b in range(6)) for a in range(6)]
+        block = max(rows)
+        rows = [(r if r > 0 else block) * max(abs(x) for x in mdq) for r in rows]
+        inc = reference_increment(base, mp=True)
+        dh = [mpmath.fsum(inc[row, k] * mdq[k] for k in range(6)) for row in range(2)]
+        for h in TAYLOR_STEPS:
+            hh = mpmath.mpf(h)
+            z = list(base)
+            for k, (geo, _) in enumerate(cols):
+                if geo is not None:
+                    z[geo[0]] += geo[1] * hh * mdq[k]
+            z[8] += hh * dh[0]
+            z[9] += hh * dh[1]
+            f1 = [mpmath.mpf(0)] * 6
+            fn(*z, f1)
+            errs.append(float(max(abs(f1[a] - f0[a] - hh * lin[a]) / rows[a] for a in range(6))))
+    errs = np.array(errs)
+    ok = errs > 1e-30
+    if ok.sum() < 3:
+        return None, errs
+    use = np.flatnonzero(ok)[-4:]
+    return float(np.polyfit(np.log(np.array(TAYLOR_STEPS)[use]), np.log(errs[use]), 1)[0]), errs
+
+
+def exact_bound(args, jac):
+    """Bound against exact references: 64 eps of the terms a row sums.
+
+    The terms of a force row are the normal tangent stiffness
+    ``pi E*/(lam - 1)``, ``|F_n|/r`` and ``|ft_c|/r`` (rotation of n), ``k_t``
+    and ``mu_s dF_n`` (sliding); a torque row has ``R (k_t R + ...)`` and
+    ``k_r``.  Their sum over the row's largest entry is the cancellation
+    factor kappa; the bound is ``max(1e-12, 64 eps kappa)``.
+    """
+    dx, dy, ri, rj, e_star, nu, mus, mur, ft, mr = args
+    r = math.hypot(dx, dy)
+    out = np.empty(9)
+    _gen.lee_hurley_contact(*args, out)
+    delta, a, kn, kt, kr, fn, ftc, mrc, _ = out
+    lam = math.pi * e_star / kn
+    stiff = math.pi * e_star / (lam - 1.0)
+    force_terms = stiff * (1 + mus) + (fn + abs(ftc)) / r + kt
+    rmax = max(ri, rj)
+    terms = np.array([force_terms, force_terms, rmax * force_terms + kr + mur * rmax * stiff] * 2)
+    absj = np.abs(jac)
+    rowmax = np.where(absj.max(axis=1) > 0, absj.max(axis=1), absj.max())
+    kappa = max(1.0, float(np.max(terms / rowmax)))
+    return max(EXACT_BOUND, ROUNDING_ULPS * EPS * kappa)
+
+
+def verify_case(args, direction, mp=True):
+    """All comparisons for one configuration: a dict of errors."""
+    f, jac = generated_jacobian(args)
+    inc = reference_increment(args)
+    res = {"finite": bool(np.all(np.isfinite(f)) and np.all(np.isfinite(jac)))}
+    jcs = complex_step_jacobian(args, inc)
+    res["complex_step"] = row_relative_error(jac, jcs)
+    res["complex_step_bound"] = exact_bound(args, jcs)
+    res["central_resolvable"] = central_resolvable(args)
+    res["central"] = row_relative_error(jac, central_jacobian(args, inc, jac))
+    if mp:
+        jmp = mp_central_jacobian(args)
+        res["central_mp"] = row_relative_error(jac, jmp)
+        res["central_mp_bound"] = exact_bound(args, jmp)
+        res["taylor_slope"], res["taylor_errs"] = taylor_slope(args, direction)
+    return res
+
+
+def verify_cases(cases, seed, progress=None):
+    """Run the proof over ``cases``; a JSON-ready summary by regime."""
+    rng = np.random.default_rng([seed, 1])
+    summary = {}
+    for k, case in enumerate(cases):
+        st, sr = abs(case.t_ratio) > 1, abs(case.r_ratio) > 1
+        regime = [n for n, v in REGIMES.items() if v == (st, sr)][0]
+        res = verify_case(case_inputs(case), rng.uniform(-1.0, 1.0, 6))
+        s = summary.setdefault(regime, {
+            "cases": 0, "nonfinite": 0, "max_rel_err_complex_step": 0.0,
+            "complex_step_above_bound": 0, "max_rel_err_central": 0.0,
+            "central_above_1e-6": 0, "central_unresolvable": 0, "max_rel_err_central_mp50": 0.0,
+            "central_mp50_above_bound": 0, "taylor_slope_min": math.inf,
+            "taylor_unresolved": 0, "worst_complex_step": None})
+        s["cases"] += 1
+        s["nonfinite"] += not res["finite"]
+        if res["complex_step"] >= s["max_rel_err_complex_step"]:
+            s["worst_complex_step"] = asdict(case)
+        s["max_rel_err_complex_step"] = max(s["max_rel_err_complex_step"], res["complex_step"])
+        s["complex_step_above_bound"] += res["complex_step"] > res["complex_step_bound"]
+        if res["central_resolvable"]:
+            s["max_rel_err_central"] = max(s["max_rel_err_central"], res["central"])
+            s["central_above_1e-6"] += res["central"] > CENTRAL_BOUND
+        else:
+            s["central_unresolvable"] += 1
+        s["max_rel_err_central_mp50"] = max(s["max_rel_err_central_mp50"], res["central_mp"])
+        s["central_mp50_above_bound"] += res["central_mp"] > res["central_mp_bound"]
+        if res["taylor_slope"] is None:
+            s["taylor_unresolved"] += 1
+        else:
+            s["taylor_slope_min"] = min(s["taylor_slope_min"], res["taylor_slope"])
+        if progress is not None:
+            progress.update(1)
+    return {"law": "lee_hurley", "cases": len(cases), "seed": seed, "regimes": summary}
+
+
+def main(argv=None):
+    """``python -m fricstab.laws.verify_lee_hurley --cases N --seed S [--json PATH]``; exit 3 on failure."""
+    parser = argparse.ArgumentParser(prog="python -m fricstab.laws.verify_lee_hurley",
+                                     description="verify the lee_hurley Jacobian blocks")
+    parser.add_argument("--cases", type=int, default=200)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--json", default=None)
+    ns = parser.parse_args(argv)
+    if ns.cases < 1:
+        print("--cases must be >= 1", file=sys.stderr)
+        return 2
+    from tqdm import tqdm
+    with tqdm(total=ns.cases, disable=not sys.stderr.isatty()) as bar:
+        report = verify_cases(sample_cases(ns.cases, ns.seed), ns.seed, bar)
+    text = json.dumps(report, indent=2)
+    print(text)
+    if ns.json:
+        with open(ns.json, "w") as fh:
+            fh.write(text + "\n")
+    return 3 if failures(report) else 0
+
+
+def failures(report):
+    """Count of regime checks above their bounds in a :func:`verify_cases` report."""
+    return sum(s["nonfinite"] + s["complex_step_above_bound"] + s["central_mp50_above_bound"]
+               + s["central_above_1e-6"] + (s["taylor_slope_min"] < 1.9)
+               for s in report["regimes"].values())
+
+
+if __name__ == "__main__":
+    sys.exit(main())

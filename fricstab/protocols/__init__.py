@@ -1,0 +1,1 @@
+"""Protocols: what is done to a scene (ramps, relaxation, dynamics, strain, shear)."""

@@ -1,0 +1,169 @@
+"""Quasistatic F_x ramp of the chain with detection of complex-pair events.
+
+The ramp raises F_x in steps, relaxing each time from the previous
+equilibrium so that the tangential history is carried along
+(:func:`fricstab.protocols.quasistatic.relax_newton`), and records the spectrum of
+M^-1 J.  A *birth* is a complex-conjugate pair present at a step and absent at
+the previous one, a *death* the converse (pairs matched by their real parts).
+Each event is then located by bisection in F_x on the sign of the pair
+indicator D of :mod:`fricstab.analysis.spectrum`, each trial F_x relaxed from the
+equilibrium of the step before the event, to the tolerance ``tol`` (default
+1e-6): the event lies in ``[fx_lo, fx_hi]`` with ``fx_hi - fx_lo <= tol``.
+"""
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from fricstab.scenes.chain import forces_and_jacobian, initial_state, mass_vector
+from fricstab.protocols.quasistatic import relax_newton
+from fricstab.analysis.spectrum import (complex_pairs, decompose, growth_rate, pair_indicator,
+                               tracking_radius)
+
+__all__ = ["Event", "RampResult", "locate_event", "run_ramp"]
+
+
+@dataclass(frozen=True)
+class Event:
+    """A birth or death of a complex-conjugate pair, located in F_x."""
+
+    kind: str          # "birth" or "death"
+    fx: float          # midpoint of the final bracket
+    fx_lo: float
+    fx_hi: float
+    pair_center: float  # real part of the coalescing pair (sim units)
+    radius: float       # tracking radius of the pair (see pair_indicator)
+    bisections: int
+    located: bool = True  # False: no sign change of D across the step (see run_ramp)
+
+
+@dataclass
+class RampResult:
+    """Spectra along the ramp and the located events."""
+
+    fx: np.ndarray
+    eigenvalues: np.ndarray   # (steps, 3N) complex, sorted by real part
+    condition: np.ndarray     # (steps, 3N)
+    residual: np.ndarray
+    growth: np.ndarray        # largest Im sqrt(-lambda) per step
+    events: list
+    states: list = field(repr=False, default_factory=list)
+    seconds: float = 0.0
+
+
+def _newton(scene, state):
+    return relax_newton(scene, state)
+
+
+def _equilibrium(scene, state, fx, relax=_newton):
+    res = relax(scene.with_fx(fx), state)
+    if not res.converged:
+        raise RuntimeError(f"Newton did not converge at F_x = {fx:.9g} "
+                           f"(residual {res.residual:.2e})")
+    return res.state, res.residual
+
+
+def _indicator(scene, state, fx, center, radius, mass, relax):
+    s, _ = _equilibrium(scene, state, fx, relax)
+    _, jac = forces_and_jacobian(scene.with_fx(fx), s)
+    return pair_indicator(decompose(jac, mass, vectors=False).eigenvalues, center, radius)
+
+
+def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_iter=80,
+                 relax=_newton):
+    """Bisect the sign change of the pair indicator D in ``[fx_lo, fx_hi]``.
+
+    ``state_lo`` is the equilibrium at ``fx_lo``; every trial is relaxed from
+    it.  ``center`` and ``radius`` identify the conjugate pair (see
+    :func:`fricstab.analysis.spectrum.pair_indicator`).  Returns ``(fx_lo, fx_hi,
+    center, iterations, located)``; ``located`` is False when D has the same
+    sign at both ends (two events within one step, or a pair that moved too
+    far to be tracked): refine the ramp step.
+    """
+    mass = mass_vector(scene)
+    d_lo, c_lo = _indicator(scene, state_lo, fx_lo, center, radius, mass, relax)
+    d_hi, c_hi = _indicator(scene, state_lo, fx_hi, center, radius, mass, relax)
+    if np.sign(d_lo) == np.sign(d_hi):
+        return fx_lo, fx_hi, center, 0, False
+    it = 0
+    while fx_hi - fx_lo > tol and it < max_iter:
+        mid = 0.5 * (fx_lo + fx_hi)
+        d_mid, c_mid = _indicator(scene, state_lo, mid, center, radius, mass, relax)
+        if d_mid < 0:
+            center = c_mid  # follow the conjugate pair's real part
+        if np.sign(d_mid) == np.sign(d_lo):
+            fx_lo, d_lo = mid, d_mid
+        else:
+            fx_hi = mid
+        it += 1
+    return fx_lo, fx_hi, center, it, True
+
+
+def _match(prev, cur, scale):
+    """Pairs of ``cur`` with no partner in ``prev``, and vice versa.
+
+    Optimal assignment (scipy's linear_sum_assignment) on the distance of the
+    upper eigenvalues in the complex plane; a matched distance above ``scale``
+    counts as a death and a birth.
+    """
+    if len(prev) == 0 or len(cur) == 0:
+        return list(cur), list(prev)
+    cost = np.abs(np.subtract.outer(np.asarray(prev), np.asarray(cur)))
+    rows, cols = linear_sum_assignment(cost)
+    ok = cost[rows, cols] <= scale
+    matched_prev, matched_cur = set(rows[ok]), set(cols[ok])
+    born = [w for j, w in enumerate(cur) if j not in matched_cur]
+    died = [w for i, w in enumerate(prev) if i not in matched_prev]
+    return born, died
+
+
+def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, relax=_newton,
+             locate=True):
+    """Ramp F_x from 0 to ``fx_max`` in ``step`` increments; locate every event.
+
+    ``relax(scene, state)`` returns an object with ``state``, ``residual`` and
+    ``converged`` (default: Newton; :func:`fricstab.protocols.dynamics.relax_damped`
+    gives the paper's damped protocol).  With ``locate=False`` events are
+    reported at the step resolution only (``fx_lo``, ``fx_hi`` the step ends,
+    ``located`` False).
+    """
+    t0 = time.perf_counter()
+    mass = mass_vector(scene)
+    state, _ = _equilibrium(scene, initial_state(scene), 0.0, relax)
+    grid = np.round(np.arange(0.0, fx_max + 0.5 * step, step), 12)
+    eig, cond, resid, growth, states, events = [], [], [], [], [], []
+    prev_pairs, prev_state = np.array([]), state
+    for k, fx in enumerate(grid):
+        state, res = _equilibrium(scene, state, fx, relax)
+        _, jac = forces_and_jacobian(scene.with_fx(fx), state)
+        spec = decompose(jac, mass)
+        eig.append(spec.eigenvalues)
+        cond.append(spec.condition)
+        resid.append(res)
+        growth.append(growth_rate(spec.eigenvalues))
+        if keep_states:
+            states.append(state.copy())
+        pairs = complex_pairs(spec.eigenvalues)
+        if k > 0:
+            # Two pairs are the same when their real parts moved by less than a
+            # tenth of the spectral width per step.
+            scale = 0.1 * (np.abs(spec.eigenvalues.real).max() + 1e-300)
+            born, died = _match(prev_pairs, pairs, scale)
+            for kind, group, where in (("birth", born, spec.eigenvalues),
+                                       ("death", died, eig[-2])):
+                for w in group:
+                    radius = tracking_radius(where, w.real)
+                    if locate:
+                        lo, hi, center, n_it, ok = locate_event(
+                            scene, prev_state, grid[k - 1], fx, w.real, radius, tol,
+                            relax=relax)
+                    else:
+                        lo, hi, center, n_it, ok = grid[k - 1], fx, w.real, 0, False
+                    events.append(Event(kind, 0.5 * (lo + hi), lo, hi, center, radius, n_it, ok))
+        prev_pairs, prev_state = pairs, state
+        if progress is not None:
+            progress.update(1)
+    return RampResult(grid, np.array(eig), np.array(cond), np.array(resid), np.array(growth),
+                      sorted(events, key=lambda e: e.fx), states, time.perf_counter() - t0)

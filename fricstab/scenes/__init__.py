@@ -1,0 +1,1 @@
+"""Scenes: particles, boundaries and the contact law of each studied system."""
