@@ -34,7 +34,8 @@ import numpy as np
 
 from fricstab._numba import kernel_jit
 
-__all__ = ["contact_halfwidth", "cylinder_lambda", "overlap_correction", "turning_overlap"]
+__all__ = ["contact_halfwidth", "cylinder_lambda", "overlap_correction", "overlap_correction_at",
+           "turning_overlap"]
 
 _SPLIT = 134217729.0  # 2^27 + 1, Veltkamp splitting of a double
 
@@ -65,8 +66,19 @@ def overlap_correction(dx, dy, ri, rj, naive):
     Always computed (no threshold), so the overlap is a smooth function of the
     inputs to the last bit and finite differences see no switch.
     """
+    return overlap_correction_at(dx, dy, ri, rj, naive, np.sqrt(dx * dx + dy * dy))
+
+
+@kernel_jit
+def overlap_correction_at(dx, dy, ri, rj, naive, r):
+    """:func:`overlap_correction` with the centre distance ``r`` already known.
+
+    ``r`` must be ``np.sqrt(dx * dx + dy * dy)`` exactly as the caller computed
+    it (the generated ``<law>_advance``, ``_project`` and ``_rate`` kernels pass
+    theirs, so the contact costs one square root); the result is then the same
+    to the bit as :func:`overlap_correction`'s.
+    """
     s_hi, s_lo = _two_sum(ri, rj)
-    r2 = dx * dx + dy * dy
     ss_hi, ss_lo = _two_prod(s_hi, s_hi)
     ss_lo += 2.0 * s_hi * s_lo
     xx_hi, xx_lo = _two_prod(dx, dx)
@@ -76,7 +88,7 @@ def overlap_correction(dx, dy, ri, rj, naive):
     n1, e1 = _two_sum(ss_hi, -xx_hi)
     n2, e2 = _two_sum(n1, -yy_hi)
     num = n2 + (e1 + e2 + ss_lo - xx_lo - yy_lo)
-    accurate = num / (s_hi + np.sqrt(r2))
+    accurate = num / (s_hi + r)
     return accurate - naive
 
 

@@ -32,3 +32,17 @@ def test_overlap_is_accurate_to_a_few_ulps(ri, ratio, phi, log_rel):
             return
         rel = abs((mpmath.mpf(delta) - exact) / exact)
     assert rel <= 8 * EPS
+
+
+@given(ri=st.floats(1e-3, 1e3), ratio=st.floats(0.2, 5.0), phi=st.floats(0, 2 * math.pi),
+       log_rel=st.floats(-15.0, 0.0))
+def test_overlap_from_a_known_distance_is_the_same_to_the_bit(ri, ratio, phi, log_rel):
+    """overlap_correction_at with the caller's r = sqrt(dx*dx + dy*dy): the same operations."""
+    from fricstab._numerics import overlap_correction_at
+
+    rj = ri * ratio
+    r = (ri + rj) * (1 - 10.0 ** log_rel)
+    dx, dy = r * math.cos(phi), r * math.sin(phi)
+    dist = float(np.sqrt(dx * dx + dy * dy))
+    naive = ri + rj - dist
+    assert overlap_correction_at(dx, dy, ri, rj, naive, dist) == overlap_correction(dx, dy, ri, rj, naive)
