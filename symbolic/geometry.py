@@ -24,6 +24,7 @@ import sympy as sp
 
 __all__ = [
     "CylinderPairGeometry",
+    "CylinderWallGeometry",
     "PairGeometry",
     "WallGeometry",
     "chain_diff",
@@ -166,6 +167,49 @@ class CylinderPairGeometry:
             self.delta: {self.dx: -nx, self.dy: -ny},
             self.lam: {self.dx: dlam * nx, self.dy: dlam * ny},
             self.hw: {self.dx: -self.hw * dlam * nx / 2, self.dy: -self.hw * dlam * ny / 2},
+        }
+
+
+class CylinderWallGeometry:
+    """Disk on the flat wall y = 0 with the Hertz cylinder width; base variable y.
+
+    The kinematics is that of a flat wall (``delta = R - y``, normal y-hat,
+    never rotating), while the contact width is that of two cylinders of radii
+    ``R`` and ``Rw`` (the wall's radius of curvature, a law parameter): a 2D
+    Hertz contact on a half-space has no finite stiffness without a reference
+    length.  Same implicit intermediates as :class:`CylinderPairGeometry` with
+    ``(R_i, R_j) = (R, Rw)``:
+
+    * ``lam = ln(4 R/a) + ln(4 Rw/a) - 1`` solving
+      ``lam - ln lam = ln(4 (R + Rw)/delta) - 1``
+      (``fricstab._numerics.cylinder_lambda(delta, R, Rw)``), with
+      ``d lam/d delta = -lam / ((lam - 1) delta)`` and ``d delta/dy = -1``;
+    * ``hw = a = 4 sqrt(R Rw) exp(-(lam + 1)/2)``.
+    """
+
+    def __init__(self):
+        s = sp.Symbol
+        self.y = s("y", real=True)
+        self.delta = s("delta", positive=True)
+        self.lam = s("lam", positive=True)
+        self.hw = s("hw", positive=True)
+        self.base = (self.y,)
+
+    def intermediates(self):
+        r, rw = sp.Symbol("R", positive=True), sp.Symbol("Rw", positive=True)
+        return [
+            (self.delta, r - self.y),
+            (self.lam, -sp.LambertW(-sp.E * self.delta / (4 * (r + rw)), -1)),
+            (self.hw, 4 * sp.sqrt(r * rw) * sp.exp(-(self.lam + 1) / 2)),
+        ]
+
+    def partials(self):
+        # d lam/dy = d lam/d delta * d delta/dy = lam/((lam - 1) delta)
+        dlam = self.lam / ((self.lam - 1) * self.delta)
+        return {
+            self.delta: {self.y: sp.Integer(-1)},
+            self.lam: {self.y: dlam},
+            self.hw: {self.y: -self.hw * dlam / 2},
         }
 
 

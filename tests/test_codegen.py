@@ -42,8 +42,9 @@ def test_header_names_command_and_hash():
 
 def test_fricstab_never_imports_sympy():
     code = ("import sys, fricstab.cli, fricstab.laws.verify, fricstab.laws\n"
-            "from fricstab.laws import LAW_NAMES, get_law\n"
-            "[get_law(n) for n in LAW_NAMES]\n"
+            "import fricstab.laws.verify_lee_hurley, fricstab.generated.dispatch\n"
+            "from fricstab.laws import ALL_LAW_NAMES, get_law\n"
+            "[get_law(n) for n in ALL_LAW_NAMES]\n"
             "bad = [m for m in sys.modules if m == 'sympy' or m.startswith('symbolic')]\n"
             "assert not bad, bad\n")
     subprocess.run([sys.executable, "-c", code], check=True)
@@ -53,3 +54,58 @@ def test_kernel_printer_uses_sqrt_for_half_powers():
     x = sp.Symbol("x", positive=True)
     assert codegen._code(x ** sp.Rational(1, 2)) == "np.sqrt(x)"
     assert codegen._code(x ** 2) == "(x * x)"
+
+
+def test_every_law_has_the_uniform_kernels_and_metadata():
+    import fricstab.generated as generated
+
+    files = codegen.render_all()
+    names = generated.ALL_LAW_NAMES
+    assert len(names) == 8 and set(generated.PAIR_LAW_NAMES) | set(generated.WALL_LAW_NAMES) == set(names)
+    for name in names:
+        src = files[codegen.OUT_DIR / f"{name}.py"]
+        for suffix in ("_eval", "_rate", "_project", "_advance"):
+            assert f"def {name}{suffix}(" in src
+        for const in ("PARAMS", "PARAM_UNITS", "PARAM_DOCS", "N_DOF", "N_HIST", "ROTATION",
+                      "CAPPED", "CONTACT"):
+            assert f"\n{const} = " in src, (name, const)
+        assert ("\nWALL = " in src) != ("\nPAIR = " in src)
+        assert (f"def {name}_assemble(" in src) == (name in codegen.LEGACY_ASSEMBLE)
+    dispatch = files[codegen.OUT_DIR / "dispatch.py"]
+    for kind in ("pair", "wall"):
+        for suffix in ("_eval", "_rate", "_project", "_advance"):
+            assert f"def {kind}{suffix}(law, " in dispatch
+
+
+def test_the_hot_path_computes_its_geometry_once():
+    """<law>_advance: no square root taken twice (r, sqrt(delta), |t|, the half-width's
+    sqrt(R1) sqrt(R2)), one contact-width solve, the accurate overlap from the r it has
+    (overlap_correction_at, not overlap_correction's own sqrt), Lai's logs once."""
+    import re
+
+    files = codegen.render_all()
+    for name in laws.ALL_LAWS:
+        src = files[codegen.OUT_DIR / f"{name}.py"]
+        body = src.split(f"def {name}_advance(")[1].split("\n@kernel_jit")[0]
+        roots = re.findall(r"np\.sqrt\(([^()]*)\)", body)
+        assert len(roots) == len(set(roots)) and len(roots) == body.count("np.sqrt("), roots
+        assert body.count("cylinder_lambda(") == (1 if name.startswith("lee_hurley") else 0)
+        assert "overlap_correction(" not in body
+        if name.startswith("lee_hurley"):
+            logs = re.findall(r"np\.log\(([^()]*)\)", body)
+            assert len(logs) == len(set(logs)) == 4
+
+
+def test_regeneration_clears_the_numba_cache(tmp_path, monkeypatch, capsys):
+    pkg = tmp_path / "fricstab"
+    cache = pkg / "laws" / "__pycache__"
+    cache.mkdir(parents=True)
+    for fname in ("verify.verify_law-10.py311.nbi", "verify.verify_law-10.py311.1.nbc",
+                  "verify.cpython-311.pyc"):
+        (cache / fname).write_text("x")
+    monkeypatch.setattr(codegen, "OUT_DIR", pkg / "generated")
+    assert codegen.main([]) == 0
+    out = capsys.readouterr().out
+    assert "removed 2 numba cache files" in out
+    assert sorted(p.name for p in cache.iterdir()) == ["verify.cpython-311.pyc"]
+    assert (pkg / "generated" / "dispatch.py").exists()

@@ -245,11 +245,37 @@ def test_closed_forms_at_zero_history():
     assert math.isclose(jac[1, 1], -1.5 * kn * sd, rel_tol=1e-12)
     assert math.isclose(jac[2, 2], -kt * sd * ri * ri, rel_tol=1e-12)
     assert math.isclose(jac[0, 0], -kt * sd, rel_tol=1e-12)
+    # Ishima at the wall, l = R theta: dF_x/dx = dF_x/dl = dF^l/dl = -kT xi^{1/2}
+    law = get_law("ishima_wall")
+    f, jac = generated_jacobian(law, (ri - delta, ri, kn, kt, 0.0))
+    assert math.isclose(f[1], kn * delta * sd, rel_tol=1e-12) and f[0] == f[2] == 0.0
+    assert math.isclose(jac[1, 1], -1.5 * kn * sd, rel_tol=1e-12)
+    for a, b in ((0, 0), (0, 2), (2, 0), (2, 2)):
+        assert math.isclose(jac[a, b], -kt * sd, rel_tol=1e-12)
 
 
-@pytest.mark.parametrize("name", LAW_NAMES)
+def test_ishima_wall_is_charan_wall_in_l_without_the_limit():
+    """With |t| << t* and F^l = T/R, l = R theta: Ishima's wall block is Charan's rescaled.
+
+    Charan's smoothed factor 1 + s - s^2 with s = |t|/t* ~ 1e-12 (mu = 1e9)
+    differs from 1 by ~1e-12; columns theta -> l divide by R, rows T -> T/R
+    too: the blocks agree to 1e-9 of each entry's scale.
+    """
+    kn, kt, r, delta, t = 2.0, 0.7, 0.5, 1e-3, 3e-5
+    f_i, j_i = generated_jacobian(get_law("ishima_wall"), (r - delta, r, kn, kt, t))
+    f_c, j_c = generated_jacobian(get_law("charan_wall"), (r - delta, r, kn, kt, 1e9, t))
+    scale = np.diag([1.0, 1.0, 1.0 / r])
+    assert np.allclose(scale @ f_c, f_i, rtol=1e-9, atol=0)
+    assert np.allclose(scale @ j_c @ scale, j_i, rtol=1e-9, atol=1e-12 * np.abs(j_i).max())
+
+
+@pytest.mark.parametrize("name", [n for n in LAW_NAMES if get_law(n).assemble is not None])
 def test_array_layer_matches_the_scalar_kernel(name):
-    """The generated loop over contacts accumulates what the scalar kernel gives."""
+    """The generated loop over contacts accumulates what the scalar kernel gives.
+
+    Only the laws whose loops modules outside the laws still import keep one
+    (symbolic.codegen.LEGACY_ASSEMBLE); the engine assembles the others.
+    """
     law = get_law(name)
     rng = np.random.default_rng(5)
     n = 4

@@ -13,6 +13,10 @@ Error models behind the tolerances
 * float64 central differences at the best step, where the column length is
   >= 1e7 ulp(r): rounding ~eps r/h and truncation (h/L)^2 both < 1e-7: 1e-6.
 * Taylor test in 50 digits: slope >= 1.9 (a first-order error in K gives 1).
+
+Both forms, the pair ``lee_hurley`` and the wall ``lee_hurley_wall``; the
+2,000-case acceptance run of both is in validation/test_verification_tiers.py
+(``pytest -m slow``).
 """
 
 import math
@@ -26,38 +30,28 @@ from hypothesis import strategies as st
 
 from fricstab._numerics import contact_halfwidth, cylinder_lambda, turning_overlap
 from fricstab.generated import lee_hurley as gen
+from fricstab.generated import lee_hurley_wall as gen_wall
 from fricstab.laws import ParameterError, evaluate
 from fricstab.protocols.shear_law import damping_coefficients
 from fricstab.laws.verify_lee_hurley import (
-    CENTRAL_BOUND, EXTREMES, ShearCase, case_inputs, central_jacobian, central_resolvable,
+    CENTRAL_BOUND, LAWS, ShearCase, case_inputs, central_jacobian, central_resolvable,
     complex_step_jacobian, exact_bound, generated_jacobian, lai_kt, mp_central_jacobian,
-    reference_increment, sample_cases, taylor_slope, verify_cases)
+    reference_increment, row_terms, sample_cases, taylor_slope, verify_cases)
 from fricstab.laws.verify import row_relative_error
-from tests.strategies import corrupt_jacobian
+from tests.strategies import corrupt_jacobian, shear_cases
 
 EPS = np.finfo(float).eps
 
 
-def _ranged(key, log=True):
-    lo, hi = EXTREMES[key]
-    inner = st.floats(math.log(lo), math.log(hi)).map(math.exp) if log and lo > 0 else st.floats(lo, hi)
-    return st.one_of(st.sampled_from([lo, hi]), inner.map(lambda v: min(max(v, lo), hi)))
+def _contact(args):
+    out = np.empty(9)
+    (gen.lee_hurley_contact if len(args) == 10 else gen_wall.lee_hurley_wall_contact)(*args, out)
+    return out
 
 
-def _ratio(slides):
-    mag = (st.one_of(st.just(1 + 1e-6), st.just(1e3), st.floats(1 + 1e-6, 1e3)) if slides
-           else st.one_of(st.just(0.0), st.just(1 - 1e-6), st.floats(0.0, 1 - 1e-6)))
-    return st.tuples(mag, st.sampled_from([1.0, -1.0])).map(lambda p: p[0] * p[1])
-
-
-@st.composite
-def shear_cases(draw):
-    """A ShearCase in any regime, reaching the ends of every range."""
-    return ShearCase(
-        delta_over_R=draw(_ranged("delta_over_R")), radius_ratio=draw(_ranged("radius_ratio")),
-        phi=draw(st.floats(0.0, 2 * math.pi)), nu=draw(_ranged("nu", log=False)),
-        mus=draw(_ranged("mus")), mur=draw(_ranged("mur")),
-        t_ratio=draw(_ratio(draw(st.booleans()))), r_ratio=draw(_ratio(draw(st.booleans()))))
+def _radii(args):
+    """(R_1, R_2) of a pair (Ri, Rj) or a wall contact (R, Rw)."""
+    return (args[2], args[3]) if len(args) == 10 else (args[1], args[6])
 
 
 # --- the contact-width solver -------------------------------------------------
@@ -109,19 +103,21 @@ def test_beyond_the_turning_point_raises():
 
 # --- generated blocks against the references ----------------------------------
 
-@given(case=shear_cases())
-def test_complex_step_agrees(case):
-    args = case_inputs(case)
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
+def test_complex_step_agrees(law, data):
+    args = case_inputs(data.draw(shear_cases(law)), law=law)
     f, jac = generated_jacobian(args)
     assert np.all(np.isfinite(f)) and np.all(np.isfinite(jac))
     jcs = complex_step_jacobian(args, reference_increment(args))
     assert row_relative_error(jac, jcs) <= exact_bound(args, jcs)
 
 
-@given(case=shear_cases())
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
 @settings(max_examples=25)
-def test_central_differences_agree(case):
-    args = case_inputs(case)
+def test_central_differences_agree(law, data):
+    args = case_inputs(data.draw(shear_cases(law)), law=law)
     if not central_resolvable(args):
         return  # the column lengths lie below float64 resolution (see module doc)
     f, jac = generated_jacobian(args)
@@ -129,40 +125,47 @@ def test_central_differences_agree(case):
     assert row_relative_error(jac, jfd) <= CENTRAL_BOUND
 
 
-@given(case=shear_cases())
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
 @settings(max_examples=20)
-def test_mp50_differences_agree(case):
-    args = case_inputs(case)
+def test_mp50_differences_agree(law, data):
+    args = case_inputs(data.draw(shear_cases(law)), law=law)
     f, jac = generated_jacobian(args)
     jmp = mp_central_jacobian(args)
     assert row_relative_error(jac, jmp) <= exact_bound(args, jmp)
 
 
-@given(case=shear_cases(), direction=st.lists(st.floats(-1, 1), min_size=6, max_size=6).filter(
-    lambda v: max(abs(x) for x in v) > 0.1))
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
 @settings(max_examples=20)
-def test_taylor_remainder_is_second_order(case, direction):
-    slope, errs = taylor_slope(case_inputs(case), direction)
+def test_taylor_remainder_is_second_order(law, data):
+    args = case_inputs(data.draw(shear_cases(law)), law=law)
+    n = 6 if law == "lee_hurley" else 3
+    direction = data.draw(st.lists(st.floats(-1, 1), min_size=n, max_size=n).filter(
+        lambda v: max(abs(x) for x in v) > 0.1))
+    slope, errs = taylor_slope(args, direction)
     assert slope is None or slope >= 1.9, (slope, errs)
 
 
-def test_taylor_check_catches_a_wrong_jacobian(monkeypatch):
+@pytest.mark.parametrize("law", LAWS)
+def test_taylor_check_catches_a_wrong_jacobian(law, monkeypatch):
     import fricstab.laws.verify_lee_hurley as sv
     monkeypatch.setattr(sv, "_mp_function", corrupt_jacobian(sv._mp_function))
     case = ShearCase(1e-3, 1.3, 0.7, 0.2, 0.5, 0.01, 3.0, 0.3)
-    slope, _ = sv.taylor_slope(case_inputs(case), np.linspace(-1, 1, 6) + 0.1)
+    n = 6 if law == "lee_hurley" else 3
+    slope, _ = sv.taylor_slope(case_inputs(case, law=law), np.linspace(-1, 1, n) + 0.1)
     assert slope < 1.5
 
 
 # --- the caps --------------------------------------------------------------------
 
-@given(case=shear_cases())
-def test_caps_hold_for_any_trial_history(case):
-    args = case_inputs(case)
-    out = np.empty(9)
-    gen.lee_hurley_contact(*args, out)
-    delta, a, kn, kt, kr, fn, ftc, mrc, flag = out
-    ri, rj = args[2], args[3]
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
+def test_caps_hold_for_any_trial_history(law, data):
+    case = data.draw(shear_cases(law))
+    args = case_inputs(case, law=law)
+    delta, a, kn, kt, kr, fn, ftc, mrc, flag = _contact(args)
+    ri, rj = _radii(args)
     rr = ri * rj / (ri + rj)
     # k_n delta and Johnson's pi E* a^2/(4 R*) agree to the solver's backward error
     assert math.isclose(fn, math.pi * a * a / (4 * rr), rel_tol=64 * EPS)
@@ -173,36 +176,126 @@ def test_caps_hold_for_any_trial_history(case):
     assert flag == (abs(case.t_ratio) > 1) + 2 * (abs(case.r_ratio) > 1)
 
 
-@given(case=shear_cases())
-def test_block_jump_at_the_caps_is_the_documented_one(case):
-    """At |ft| = cap: force continuous; the block jumps by dF/dft_c (D_slip - D_stick).
+def _documented_jump(args, case):
+    """dF/dft_c (D_slip - D_stick) + dF/dmr_c (D_slip - D_stick) at the caps.
 
-    D_stick = k_t d delta_t/dq (increment rule), D_slip = mu_s sign dF_n/dq;
-    likewise for the rolling spring.  Ratios 1 -/+ 1e-9: the remaining
-    difference is O(1e-9) relative to the terms of a row (bound 1e-7).
+    D_stick = the increment rule, D_slip = mu sign(h) dF_n/dq with
+    dF_n/dq = pi E*/(lam - 1) d delta/dq (implicit differentiation of A2);
+    the tangential history positive, the rolling one negative (as the callers
+    put them).
     """
-    lo = case_inputs(ShearCase(**{**case.__dict__, "t_ratio": 1 - 1e-9, "r_ratio": -(1 - 1e-9)}))
-    hi = case_inputs(ShearCase(**{**case.__dict__, "t_ratio": 1 + 1e-9, "r_ratio": -(1 + 1e-9)}))
-    f0, j0 = generated_jacobian(lo)
-    f1, j1 = generated_jacobian(hi)
-    ri, rj = lo[2], lo[3]
-    scale = np.abs(j0).max() + np.abs(j1).max()
-    assert np.all(np.abs(f1 - f0) <= 1e-7 * np.abs(f0).max())
-    inc = reference_increment(lo)
-    nx, ny = lo[0] / math.hypot(lo[0], lo[1]), lo[1] / math.hypot(lo[0], lo[1])
-    out = np.empty(9)
-    gen.lee_hurley_contact(*hi, out)
-    fn, rr = out[5], ri * rj / (ri + rj)
-    lam = math.pi / out[2]  # E* = 1: kn = pi/lam
-    # dF_n/dq = pi E*/(lam - 1) d delta/dq (implicit differentiation of A2)
-    dfn = math.pi / (lam - 1) * np.array([-nx, -ny, 0.0, nx, ny, 0.0])
+    ri, rj = _radii(args)
+    rr = ri * rj / (ri + rj)
+    inc = reference_increment(args)
+    lam = math.pi / _contact(args)[2]  # E* = 1: kn = pi/lam
+    if len(args) == 10:
+        r = math.hypot(args[0], args[1])
+        nx, ny = args[0] / r, args[1] / r
+        ddelta = np.array([-nx, -ny, 0.0, nx, ny, 0.0])
+        dF_dft = np.array([ny, -nx, ri, -ny, nx, rj])
+        dF_dmr = np.array([0, 0, 1.0, 0, 0, -1.0])
+    else:
+        ddelta = np.array([0.0, -1.0, 0.0])
+        dF_dft = np.array([1.0, 0.0, ri])  # F = (ft_c, F_n), T = R ft_c + mr_c
+        dF_dmr = np.array([0.0, 0.0, 1.0])
+    dfn = math.pi / (lam - 1) * ddelta
     d_t = case.mus * dfn - inc[0]
     d_r = -case.mur * rr * dfn - inc[1]
-    dF_dft = np.array([ny, -nx, ri, -ny, nx, rj])
-    dF_dmr = np.array([0, 0, 1.0, 0, 0, -1.0])
-    expect = np.outer(dF_dft, d_t) + np.outer(dF_dmr, d_r)
-    assert np.all(np.abs(j1 - j0 - expect) <= 1e-7 * scale)
-    assert fn > 0
+    return np.outer(dF_dft, d_t) + np.outer(dF_dmr, d_r)
+
+
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
+def test_block_jump_at_the_caps_is_the_documented_one(law, data):
+    """At |ft| = cap: force continuous; the block jumps by dF/dft_c (D_slip - D_stick).
+
+    Likewise for the rolling spring.  Ratios 1 -/+ 1e-9: the remaining
+    difference is O(1e-9) relative to the terms of a row (bound 1e-7).
+    """
+    case = data.draw(shear_cases(law))
+    lo = case_inputs(ShearCase(**{**case.__dict__, "t_ratio": 1 - 1e-9, "r_ratio": -(1 - 1e-9)}),
+                     law=law)
+    hi = case_inputs(ShearCase(**{**case.__dict__, "t_ratio": 1 + 1e-9, "r_ratio": -(1 + 1e-9)}),
+                     law=law)
+    f0, j0 = generated_jacobian(lo)
+    f1, j1 = generated_jacobian(hi)
+    scale = np.abs(j0).max() + np.abs(j1).max()
+    assert np.all(np.abs(f1 - f0) <= 1e-7 * np.abs(f0).max())
+    assert np.all(np.abs(j1 - j0 - _documented_jump(lo, case)) <= 1e-7 * scale)
+    assert _contact(hi)[5] > 0
+
+
+def _on_caps(args):
+    """args with both histories put on their caps by the generated project kernel."""
+    if len(args) == 10:
+        law, mod, geo, p, ih = "lee_hurley", gen, args[:4], args[4:8], 8
+    else:
+        law, mod, geo, p, ih = "lee_hurley_wall", gen_wall, args[:2], args[2:7], 7
+    h = np.array(args[ih:ih + 2])
+    flags = getattr(mod, f"{law}_project")(*geo, np.array(p), h)
+    return tuple(args[:ih]) + (float(h[0]), float(h[1])), flags
+
+
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
+def test_a_history_exactly_on_its_cap_takes_the_sliding_branch(law, data):
+    """Ratio exactly 1 (the output of a projection): the one-sided, loading derivative.
+
+    Complex step keeps the real part exactly on the cap, so it differentiates
+    the branch the real part selects: it must agree with the block to the
+    exact-reference bound, and so must the sliding block from just beyond the
+    cap (ratio 1 + 1e-9: an O(1e-9) difference, bound 1e-7 of the terms);
+    from just inside, the block differs by the documented jump.
+    """
+    case = data.draw(shear_cases(law))
+    beyond = ShearCase(**{**case.__dict__, "t_ratio": 2.0, "r_ratio": -2.0})
+    at, flags = _on_caps(case_inputs(beyond, law=law))
+    assert flags == 3
+    f, jac = generated_jacobian(at)
+    out = _contact(at)
+    assert out[8] == 3  # both branch flags set by the kernel's own >=
+    jcs = complex_step_jacobian(at, reference_increment(at), shorten=False)
+    assert row_relative_error(jac, jcs) <= exact_bound(at, jcs)
+    near = case_inputs(ShearCase(**{**case.__dict__, "t_ratio": 1 + 1e-9, "r_ratio": -(1 + 1e-9)}),
+                       law=law)
+    inside = case_inputs(ShearCase(**{**case.__dict__, "t_ratio": 1 - 1e-9,
+                                      "r_ratio": -(1 - 1e-9)}), law=law)
+    scale = row_terms(at)[:, None]
+    assert np.all(np.abs(jac - generated_jacobian(near)[1]) <= 1e-7 * scale)
+    jump = jac - generated_jacobian(inside)[1]
+    assert np.all(np.abs(jump - _documented_jump(at, case)) <= 1e-7 * scale)
+
+
+@pytest.mark.parametrize("law", LAWS)
+@given(data=st.data())
+def test_no_rolling_resistance_at_mur_zero(law, data):
+    """mur = 0: cap 0, every rolling history on it: zero torque and zero block terms.
+
+    The capped torque is +-0, so T = R ft_c exactly; the block equals that of
+    a rolling spring sticking at mr = 0 (mur > 0) minus the spring's own
+    term dF/dmr (x) (d mr/dq): equal up to the rounding of that one
+    subtraction, 4 eps of k_r.
+    """
+    case = data.draw(shear_cases(law))
+    mr = data.draw(st.sampled_from([0.0, 1e-9, -3.0]))
+    args = list(case_inputs(ShearCase(**{**case.__dict__, "mur": 1e-3, "r_ratio": 0.0}), law=law))
+    imur, imr = (7, 9) if law == "lee_hurley" else (5, 8)
+    stick = tuple(args)
+    args[imur], args[imr] = 0.0, mr
+    f, jac = generated_jacobian(tuple(args))
+    out = _contact(tuple(args))
+    ftc, kr = out[6], out[4]
+    ri, rj = _radii(args)
+    assert out[7] == 0.0 and int(out[8]) & 2
+    assert f[2] == ri * ftc
+    if law == "lee_hurley":
+        assert f[5] == rj * ftc
+        dF_dmr = np.array([0, 0, 1.0, 0, 0, -1.0])
+    else:
+        dF_dmr = np.array([0.0, 0.0, 1.0])
+    expect = generated_jacobian(stick)[1] - np.outer(dF_dmr, reference_increment(stick)[1])
+    # the kernel's k_r and the hand-written one differ by a few eps of k_r
+    assert np.all(np.abs(jac - expect) <= 8 * EPS * (np.abs(expect) + kr))
 
 
 # --- conventions, array layer, registry, damping ---------------------------------
@@ -226,15 +319,45 @@ def test_closed_forms_at_zero_history():
     assert np.allclose(jac, jac.T, rtol=0, atol=1e-14 * np.abs(jac).max())
 
 
+def test_wall_closed_forms_at_zero_history():
+    """Wall, no history: F = (0, F_n), the flat wall's stiffnesses, those of cylinders R, Rw.
+
+    kn, kt, kr are the pair law's with R_j = Rw at the same overlap (same
+    expressions, an overlap 2^-10 exact in both: a few eps apart at most).  The block: dF_y/dy = -pi E*/(lam - 1) (no geometric
+    term: the normal does not rotate), dF_x/dx = -k_t, dF_x/dtheta = dT/dx =
+    -k_t R, dT/dtheta = -k_t R^2 - k_r, and dF_y/dx = 0: symmetric.
+    """
+    r, rw, delta = 0.5, 3.0, 2.0 ** -10
+    args = (r - delta, r, 1.0, 0.2, 0.5, 0.01, rw, 0.0, 0.0)
+    f, jac = generated_jacobian(args)
+    out = _contact(args)
+    pair = _contact((r + rw - delta, 0.0, r, rw, 1.0, 0.2, 0.5, 0.01, 0.0, 0.0))
+    assert np.allclose(out[2:6], pair[2:6], rtol=16 * EPS, atol=0)
+    lam = math.pi / out[2]
+    kt, kr, fn = out[3], out[4], out[5]
+    assert f[0] == 0.0 and f[2] == 0.0 and math.isclose(f[1], fn, rel_tol=4 * EPS)
+    assert math.isclose(jac[1, 1], -math.pi / (lam - 1), rel_tol=1e-12)
+    assert math.isclose(jac[0, 0], -kt, rel_tol=1e-14)
+    assert math.isclose(jac[0, 2], -kt * r, rel_tol=1e-14)
+    assert math.isclose(jac[2, 2], -kt * r * r - kr, rel_tol=1e-14)
+    assert jac[1, 0] == 0.0 and jac[1, 2] == 0.0 and jac[0, 1] == 0.0
+    assert np.array_equal(jac, jac.T)
+
+
 @given(case=shear_cases())
 def test_action_reaction_and_translation_modes(case):
+    """Forces on j opposite to i; a rigid translation of the pair changes nothing.
+
+    The translation columns cancel term by term; the remainder is the
+    rounding of the terms each row sums (row_terms): 64 eps of those, not of
+    the row's largest entry (a sliding row's entries can nearly cancel).
+    """
     args = case_inputs(case)
     f, jac = generated_jacobian(args)
     scale = np.abs(f).max()
     assert np.allclose(f[3:5], -f[:2], rtol=0, atol=4 * EPS * scale)
-    rowscale = np.maximum(np.abs(jac).max(axis=1), 1e-300)
     for c in range(2):
-        assert np.all(np.abs(jac[:, c] + jac[:, 3 + c]) <= 64 * EPS * rowscale)
+        assert np.all(np.abs(jac[:, c] + jac[:, 3 + c]) <= 64 * EPS * row_terms(args))
 
 
 def test_array_layer_matches_the_scalar_kernel():
@@ -264,6 +387,12 @@ def test_parameters_are_checked():
     for key, bad in (("nu", 0.5), ("nu", -0.1), ("E", 0.0), ("mus", -1.0), ("mur", -0.1)):
         with pytest.raises(ParameterError, match=key):
             evaluate("lee_hurley", **{**good, key: bad})
+    wall = dict(y=0.49, R=0.5, E=1.0, nu=0.2, mus=0.5, mur=0.01, Rw=2.0, ft=0.0, mr=0.0)
+    f, jac = evaluate("lee_hurley_wall", **wall)
+    assert f.shape == (3,) and jac.shape == (3, 3) and f[1] > 0
+    for key, bad in (("Rw", 0.0), ("Rw", -1.0), ("Rw", float("inf")), ("nu", 0.5)):
+        with pytest.raises(ParameterError, match=key):
+            evaluate("lee_hurley_wall", **{**wall, key: bad})
 
 
 def test_damping_coefficients_follow_a4_a12_a20_a22():
@@ -278,42 +407,54 @@ def test_damping_coefficients_follow_a4_a12_a20_a22():
     assert math.isclose(wall[0], 0.2 * math.sqrt(2.0), rel_tol=4 * EPS)
 
 
-def test_symbolic_chain_rule_matches_direct_differentiation():
+@pytest.mark.parametrize("law", LAWS)
+def test_symbolic_chain_rule_matches_direct_differentiation(law):
     """Stick and slide branches of the SymPy block against sympy.diff, 40 digits."""
     from symbolic.geometry import expand_geometry
     from symbolic.laws import derive
 
-    law = derive("lee_hurley")
-    g = law.geometry
-    ftc, mrc = law.capped
-    st_, sr_ = law.slides
-    ft, mr = law.history
+    sym = derive(law)
+    g = sym.geometry
+    ftc, mrc = sym.capped
+    st_, sr_ = sym.slides
+    ft, mr = sym.history
     eps = sp.Symbol("eps", real=True)
-    vals = {sp.Symbol("Ri", positive=True): sp.Rational(1, 2),
-            sp.Symbol("Rj", positive=True): sp.Rational(7, 10),
-            sp.Symbol("E", positive=True): 1, sp.Symbol("nu", nonnegative=True): sp.Rational(1, 5),
+    vals = {sp.Symbol("E", positive=True): 1, sp.Symbol("nu", nonnegative=True): sp.Rational(1, 5),
             sp.Symbol("mus", positive=True): sp.Rational(1, 2),
             sp.Symbol("mur", nonnegative=True): sp.Rational(1, 50),
-            g.dx: sp.Rational(119, 100) * sp.Rational(3, 5), g.dy: sp.Rational(119, 100) * sp.Rational(4, 5),
             ft: sp.Rational(1, 10000), mr: sp.Rational(-1, 10**6)}
-    fn = expand_geometry(law.contact[3][1], g)
-    cap_t, cap_r = (expand_geometry(c, g) for c in law.caps)
-    inc = law.increment.applyfunc(lambda e: expand_geometry(e, g)).subs(vals)
+    if law == "lee_hurley":
+        vals.update({sp.Symbol("Ri", positive=True): sp.Rational(1, 2),
+                     sp.Symbol("Rj", positive=True): sp.Rational(7, 10),
+                     g.dx: sp.Rational(119, 100) * sp.Rational(3, 5),
+                     g.dy: sp.Rational(119, 100) * sp.Rational(4, 5)})
+    else:
+        vals.update({sp.Symbol("R", positive=True): sp.Rational(1, 2),
+                     sp.Symbol("Rw", positive=True): sp.Rational(3, 1),
+                     g.y: sp.Rational(99, 200)})
+    fn = expand_geometry(sym.contact[3], g)
+    cap_t, cap_r = (expand_geometry(c, g) for c in sym.caps)
+    inc = sym.increment.applyfunc(lambda e: expand_geometry(e, g)).subs(vals)
+    nq = len(sym.coords)
     for slide_t in (0, 1):
         for slide_r in (0, 1):
             tc = cap_t if slide_t else None
             rc = cap_r if slide_r else None
-            for k in range(6):
-                p, c = divmod(k, 3)
-                sign = 1 if p == 0 else -1
-                sub = {g.dx: g.dx + (sign * eps if c == 0 else 0), g.dy: g.dy + (sign * eps if c == 1 else 0)}
+            for k in range(nq):
+                if law == "lee_hurley":
+                    p, c = divmod(k, 3)
+                    sign = 1 if p == 0 else -1
+                    sub = {g.dx: g.dx + (sign * eps if c == 0 else 0),
+                           g.dy: g.dy + (sign * eps if c == 1 else 0)}
+                else:  # only y moves the wall geometry
+                    sub = {g.y: g.y + eps} if k == 1 else {}
                 ftc_e = tc.subs(sub, simultaneous=True) if tc is not None else ft + eps * inc[0, k]
                 mrc_e = rc.subs(sub, simultaneous=True) if rc is not None else mr + eps * inc[1, k]
-                for i in (0, 2, 5):
-                    force = expand_geometry(law.force[i], g).subs(sub, simultaneous=True)
+                for i in ((0, 2, 5) if law == "lee_hurley" else (0, 1, 2)):
+                    force = expand_geometry(sym.force[i], g).subs(sub, simultaneous=True)
                     direct = sp.diff(force.subs({ftc: ftc_e, mrc: mrc_e}), eps).subs(eps, 0)
                     block = expand_geometry(
-                        law.jacobian[i, k].subs({st_: slide_t, sr_: slide_r}), g)
+                        sym.jacobian[i, k].subs({st_: slide_t, sr_: slide_r}), g)
                     block = block.subs({ftc: tc if tc is not None else ft,
                                         mrc: rc if rc is not None else mr})
                     diff = sp.N((direct - block).subs(vals), 40)
@@ -321,15 +462,15 @@ def test_symbolic_chain_rule_matches_direct_differentiation():
                     assert abs(diff) <= 1e-30 * scale, (slide_t, slide_r, i, k)
 
 
-def test_sampled_cases_cover_every_regime():
-    report = verify_cases(sample_cases(8, 0), 0)
+@pytest.mark.parametrize("law", LAWS)
+def test_sampled_cases_cover_every_regime(law):
+    report = verify_cases(sample_cases(8, 0, law=law), 0, law=law)
+    assert report["law"] == law
     assert set(report["regimes"]) == {"stick", "slide_t", "slide_r", "slide_both"}
 
 
-@pytest.mark.slow
-def test_thousands_of_cases_pass():
-    report = verify_cases(sample_cases(2000, 0), 0)
-    for s in report["regimes"].values():
-        assert s["nonfinite"] == 0
-        assert s["complex_step_above_bound"] == 0 and s["central_mp50_above_bound"] == 0
-        assert s["central_above_1e-6"] == 0 and s["taylor_slope_min"] >= 1.9
+def test_pair_sampler_draws_are_unchanged_by_the_wall_form():
+    """The pair's cases (seeded) are those of the single-form sampler: same ranges, same draws."""
+    a = sample_cases(20, 7)
+    assert a == sample_cases(20, 7, law="lee_hurley")
+    assert all(0.2 <= c.radius_ratio <= 5.0 for c in a)

@@ -1,7 +1,10 @@
 """Validation tiers of the kernel proof (`fricstab verify`) and the errata.
 
-Quick tier (CI): 150 configurations per law.  Slow tier (``pytest -m slow``):
-2,000 per law, the acceptance run of the README.  Bounds and why:
+Quick tier (CI): 150 configurations per law of the (kn, kt, [mu], t) family
+(hertz, hertz_wall, charan, charan_wall, ishima, ishima_wall), 100 per form
+of the capped law (lee_hurley, lee_hurley_wall).  Slow tier
+(``pytest -m slow``): 2,000 per law, the acceptance run of the README.
+Bounds and why:
 
 * complex step and 50-digit central differences: 1e-12 wherever the row is
   well conditioned; elsewhere within 64 eps times the cancellation factor
@@ -10,7 +13,16 @@ Quick tier (CI): 150 configurations per law.  Slow tier (``pytest -m slow``):
   the floor that the error model predicts (central_unexplained_cases == 0);
 * Taylor test: slope >= 1.9 or a remainder at the rounding level of the
   block (taylor_failed_cases == 0);
-* no NaN or inf anywhere.
+* no NaN or inf anywhere;
+* capped laws (fricstab.laws.verify_lee_hurley, per regime stick, slide_t,
+  slide_r, slide_both): complex step and 50-digit differences within 64 eps
+  of the terms each row sums (``*_above_bound == 0``), float64 central
+  differences within 1e-6 wherever the column length is >= 1e7 ulp (the
+  others are counted as unresolvable, covered by the exact references),
+  Taylor slope >= 1.9.  Histories within 1e-6 of a cap are not sampled (a
+  difference step would cross it); tests/test_lee_hurley.py checks a history
+  exactly on its cap (sliding branch) and the jump between the one-sided
+  limits.
 """
 
 import re
@@ -20,7 +32,8 @@ from pathlib import Path
 
 import pytest
 
-from fricstab.laws import LAW_NAMES
+from fricstab.laws import CAPPED_LAW_NAMES, LAW_NAMES
+from fricstab.laws import verify_lee_hurley as capped
 from fricstab.laws.verify import sample_cases, verify_law
 
 HERE = Path(__file__).resolve().parent
@@ -46,6 +59,31 @@ def test_quick_tier(name):
 @pytest.mark.parametrize("name", LAW_NAMES)
 def test_acceptance_tier(name):
     _check(verify_law(name, sample_cases(2000, 20261121), 20261121))
+
+
+def _check_capped(report, cases):
+    assert report["cases"] == cases
+    assert set(report["regimes"]) == set(capped.REGIMES)
+    for s in report["regimes"].values():
+        assert s["nonfinite"] == 0
+        assert s["complex_step_above_bound"] == 0 and s["central_mp50_above_bound"] == 0
+        assert s["central_above_1e-6"] == 0
+        assert s["taylor_slope_min"] >= 1.9
+    assert capped.failures(report) == 0
+
+
+@pytest.mark.parametrize("name", CAPPED_LAW_NAMES)
+def test_quick_tier_capped(name):
+    _check_capped(capped.verify_cases(capped.sample_cases(100, 2024, law=name), 2024, law=name),
+                  100)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", CAPPED_LAW_NAMES)
+def test_acceptance_tier_capped(name):
+    report = capped.verify_cases(capped.sample_cases(2000, 20261121, law=name), 20261121,
+                                 law=name)
+    _check_capped(report, 2000)
 
 
 def test_errata_cover_every_listed_equation():

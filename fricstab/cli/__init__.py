@@ -3,7 +3,8 @@
 Subcommands
 -----------
 ``fricstab laws``
-    List the contact laws with their coordinates and forces.
+    List the contact laws: kernel arguments, parameters with units, degrees
+    of freedom, history size, rotation coordinate, cap and wall/pair form.
 ``fricstab verify --law NAME|all --cases N --seed S --json PATH``
     Prove the generated Jacobian blocks against complex-step, central and
     50-digit differences and a Taylor test (:mod:`fricstab.laws.verify`), print a
@@ -43,9 +44,9 @@ import traceback
 from pathlib import Path
 
 from fricstab import __version__
-from fricstab.laws import CAPPED_LAW_NAMES, LAW_NAMES, ParameterError, get_law
+from fricstab.laws import ALL_LAW_NAMES, CAPPED_LAW_NAMES, ParameterError, get_law
 
-ALL_LAWS = LAW_NAMES + CAPPED_LAW_NAMES
+ALL_LAWS = ALL_LAW_NAMES
 
 __all__ = ["main", "EXIT_OK", "EXIT_OS", "EXIT_USAGE", "EXIT_DISAGREE", "EXIT_NUMERICAL",
            "EXIT_INTERNAL", "EXIT_INTERRUPTED"]
@@ -200,8 +201,17 @@ def _ranges(ns):
 def _cmd_laws():
     for name in ALL_LAWS:
         law = get_law(name)
-        print(f"{name:12s} {law.kind:4s}  coords ({', '.join(law.coords)})  "
+        geo = ", ".join(law.geometry_args)
+        rot = {"theta": "theta (torque T)", "l": "l = R theta (force T/R)", "": "none"}
+        other = f"wall form {law.wall}" if law.kind == "pair" else f"pair form {law.pair}"
+        print(f"{name} ({law.kind}, id {law.law_id}): coords ({', '.join(law.coords)}), "
               f"forces ({', '.join(law.outputs)})")
+        print(f"  kernels: {name}_force({', '.join(law.inputs)}, f); "
+              f"{name}_eval({geo}, p, h, f, jac, want_jac), _rate, _project, _advance")
+        print("  parameters: " + ", ".join(f"{p} [{u}]" for p, u in
+                                          zip(law.params, law.param_units)))
+        print(f"  dof {law.n_dof}, history {law.n_hist} ({', '.join(law.history) or '-'}), "
+              f"rotation {rot[law.rotation]}, cap {'yes' if law.capped else 'no'}, {other}")
     return 0
 
 
@@ -231,8 +241,8 @@ def _cmd_verify(ns):
     for name in capped:   # own parameters and regimes: fricstab.laws.verify_lee_hurley
         from fricstab.laws import verify_lee_hurley as shear_verify
         bar.set_postfix_str(name)
-        report = shear_verify.verify_cases(shear_verify.sample_cases(ns.cases, ns.seed),
-                                           ns.seed, bar)
+        report = shear_verify.verify_cases(shear_verify.sample_cases(ns.cases, ns.seed, law=name),
+                                           ns.seed, bar, law=name)
         results.append(report)
         capped_ok &= shear_verify.failures(report) == 0
     for name in (n for n in ns.law if n not in CAPPED_LAW_NAMES):
@@ -247,13 +257,13 @@ def _cmd_verify(ns):
         }
         results.append(res)
     bar.close()
-    print(f"{'law':12s} {'cases':>6s} {'cplx-step':>9s} {'(unexpl.)':>9s} {'mp50':>9s} "
+    print(f"{'law':26s} {'cases':>6s} {'cplx-step':>9s} {'(unexpl.)':>9s} {'mp50':>9s} "
           f"{'(unexpl.)':>9s} {'central':>9s} {'>1e-6':>6s} {'(unexpl.)':>9s} "
           f"{'taylor':>13s} {'(failed)':>8s} {'nonfinite':>9s}")
     for r in results:
         if r["law"] in CAPPED_LAW_NAMES:
             for regime, g in r["regimes"].items():
-                print(f"{r['law'] + ':' + regime:22s} {g['cases']:6d} "
+                print(f"{r['law'] + ':' + regime:26s} {g['cases']:6d} "
                       f"{_fmt(g['max_rel_err_complex_step'])} {g['complex_step_above_bound']:9d} "
                       f"{_fmt(g['max_rel_err_central_mp50'])} {g['central_mp50_above_bound']:9d} "
                       f"{_fmt(g['max_rel_err_central'])} {g['central_above_1e-6']:6d} "
@@ -261,7 +271,7 @@ def _cmd_verify(ns):
             continue
         slope = (f"{r['taylor_slope_min']:.3f}-{r['taylor_slope_max']:.3f}"
                  if r["taylor_slope_min"] is not None else "n/a")
-        print(f"{r['law']:12s} {r['cases']:6d} {_fmt(r['max_rel_err_complex_step'])} "
+        print(f"{r['law']:26s} {r['cases']:6d} {_fmt(r['max_rel_err_complex_step'])} "
               f"{r['complex_step_unexplained_cases']:9d} {_fmt(r['max_rel_err_central_mp50'])} "
               f"{r['central_mp50_unexplained_cases']:9d} {_fmt(r['max_rel_err_central'])} "
               f"{r['central_cases_above_bound']:6d} {r['central_unexplained_cases']:9d} "

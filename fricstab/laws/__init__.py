@@ -7,15 +7,26 @@ them in a :class:`LawInfo` and checks user input before it reaches a kernel.
 Sign and coordinate conventions are those of the generated modules' docstrings:
 Jacobian blocks are ``K = dF/dq`` (Charan's sign).  Ishima's Jacobian
 (Ishima Eq. 18) is ``-K`` in the coordinates (x, y, l = d theta/2).
+
+Eight laws, four pair laws and their wall forms (:data:`PAIR_LAW_NAMES`,
+:data:`WALL_LAW_NAMES`; a pair law and its wall form share the integer id
+:func:`law_id` of :mod:`fricstab.generated.dispatch`).  Every law has the
+uniform kernels ``eval``, ``rate``, ``project``, ``advance`` (one calling
+convention: geometry ``dx, dy, Ri, Rj`` or ``y, R``, the parameter array ``p``
+in ``params`` order, the history row ``h``; see :mod:`symbolic.codegen`) and
+the scalar kernels the verification harnesses differentiate.
 """
 
 import importlib
 import math
 from dataclasses import dataclass
 
-from fricstab.generated import CAPPED_LAW_NAMES, LAW_NAMES
+from fricstab.generated import (ALL_LAW_NAMES, CAPPED_LAW_NAMES, LAW_NAMES, PAIR_LAW_NAMES,
+                                WALL_LAW_NAMES)
 
-__all__ = ["CAPPED_LAW_NAMES", "LAW_NAMES", "LawInfo", "ParameterError", "check_parameters", "evaluate", "get_law"]
+__all__ = ["ALL_LAW_NAMES", "CAPPED_LAW_NAMES", "LAW_NAMES", "LawInfo", "PAIR_LAW_NAMES",
+           "ParameterError", "WALL_LAW_NAMES", "check_parameters", "evaluate", "get_law",
+           "law_id"]
 
 
 class ParameterError(ValueError):
@@ -24,7 +35,23 @@ class ParameterError(ValueError):
 
 @dataclass(frozen=True)
 class LawInfo:
-    """A generated contact law: metadata and its numba kernels."""
+    """A generated contact law: metadata and its numba kernels.
+
+    Metadata (the generated module's constants): ``params`` (PARAMS, kernel
+    order), ``param_units``, ``param_docs``, ``n_dof`` (N_DOF, per particle),
+    ``n_hist`` (N_HIST), ``rotation`` (ROTATION: "theta", "l" = R theta, or
+    ""), ``capped`` (CAPPED: the history is projected onto a cap), ``wall``
+    (the wall form of a pair law, "" for a wall law), ``pair`` (the pair form
+    of a wall law, "" for a pair law), ``contact`` (CONTACT: the names of
+    ``aux`` of ``advance``), ``law_id`` (the id of the dispatch module, shared
+    by a pair law and its wall form).
+
+    Kernels: the scalar ``force``, ``force_jacobian``, ``increment`` (None
+    without history), ``contact_quantities`` (``<law>_contact`` of a capped
+    law, else None), ``assemble`` (None except for the laws whose loops
+    callers outside the laws still import), and the uniform ``eval``,
+    ``rate``, ``project``, ``advance`` (``fricstab/generated/<law>.py``).
+    """
 
     name: str
     kind: str  # "pair" or "wall"
@@ -33,47 +60,83 @@ class LawInfo:
     outputs: tuple
     history: tuple
     coulomb: bool
+    params: tuple
+    param_units: tuple
+    param_docs: tuple
+    n_dof: int
+    n_hist: int
+    rotation: str
+    capped: bool
+    wall: str
+    pair: str
+    contact: tuple
+    law_id: int
     force: object
     force_jacobian: object
     increment: object  # None for frictionless laws
-    assemble: object
+    contact_quantities: object  # None except for capped laws
+    assemble: object  # None except for LEGACY_ASSEMBLE laws (symbolic.codegen)
+    eval: object
+    rate: object
+    project: object
+    advance: object
 
     @property
-    def n_dof(self):
-        """Degrees of freedom per particle (2 frictionless, 3 frictional)."""
-        return len(self.coords) // (2 if self.kind == "pair" else 1)
+    def geometry_args(self):
+        """The geometry arguments of the uniform kernels."""
+        return ("dx", "dy", "Ri", "Rj") if self.kind == "pair" else ("y", "R")
 
-    @property
-    def params(self):
-        """Material parameters among the inputs, in kernel order."""
-        return tuple(a for a in self.inputs if a in ("kn", "kt", "mu", "E", "nu", "mus", "mur"))
+    def wall_form(self):
+        """The :class:`LawInfo` of this pair law's wall form."""
+        if not self.wall:
+            raise ParameterError(f"{self.name} is a wall law; its pair form is {self.pair!r}")
+        return get_law(self.wall)
+
+    def pair_form(self):
+        """The :class:`LawInfo` of this wall law's pair form."""
+        if not self.pair:
+            raise ParameterError(f"{self.name} is a pair law; its wall form is {self.wall!r}")
+        return get_law(self.pair)
 
 
 _CACHE = {}
 
 
+def law_id(name):
+    """The integer id of ``name`` in :mod:`fricstab.generated.dispatch` (pair or wall form)."""
+    for names in (PAIR_LAW_NAMES, WALL_LAW_NAMES):
+        if name in names:
+            return names.index(name)
+    raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(ALL_LAW_NAMES)}")
+
+
 def get_law(name):
     """The :class:`LawInfo` of law ``name``; ParameterError if unknown.
 
-    ``name`` is one of :data:`LAW_NAMES` or :data:`CAPPED_LAW_NAMES`
-    (``lee_hurley``, verified by :mod:`fricstab.laws.verify_lee_hurley`).
+    ``name`` is one of :data:`ALL_LAW_NAMES`: the family :data:`LAW_NAMES`
+    (verified by :mod:`fricstab.laws.verify`) or :data:`CAPPED_LAW_NAMES`
+    (verified by :mod:`fricstab.laws.verify_lee_hurley`).
     """
-    if name not in LAW_NAMES + CAPPED_LAW_NAMES:
-        raise ParameterError(f"unknown law {name!r}; known laws: "
-                             f"{', '.join(LAW_NAMES + CAPPED_LAW_NAMES)}")
+    if name not in ALL_LAW_NAMES:
+        raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(ALL_LAW_NAMES)}")
     if name not in _CACHE:
         mod = importlib.import_module(f"fricstab.generated.{name}")
+        kernel = lambda suffix: getattr(mod, f"{name}{suffix}", None)  # noqa: E731
         _CACHE[name] = LawInfo(
             name=name, kind=mod.KIND, inputs=mod.INPUTS, coords=mod.COORDS,
             outputs=mod.OUTPUTS, history=mod.HISTORY, coulomb=mod.COULOMB,
-            force=getattr(mod, f"{name}_force"),
-            force_jacobian=getattr(mod, f"{name}_force_jacobian"),
-            increment=getattr(mod, f"{name}_increment", None),
-            assemble=getattr(mod, f"{name}_assemble"))
+            params=mod.PARAMS, param_units=mod.PARAM_UNITS, param_docs=mod.PARAM_DOCS,
+            n_dof=mod.N_DOF, n_hist=mod.N_HIST, rotation=mod.ROTATION, capped=mod.CAPPED,
+            wall=getattr(mod, "WALL", ""), pair=getattr(mod, "PAIR", ""),
+            contact=mod.CONTACT, law_id=law_id(name),
+            force=kernel("_force"), force_jacobian=kernel("_force_jacobian"),
+            increment=kernel("_increment"), contact_quantities=kernel("_contact"),
+            assemble=kernel("_assemble"), eval=kernel("_eval"), rate=kernel("_rate"),
+            project=kernel("_project"), advance=kernel("_advance"))
     return _CACHE[name]
 
 
-_POSITIVE = ("kn", "kt", "mu", "R", "Ri", "Rj", "radius", "E", "mus")
+_POSITIVE = ("kn", "kt", "mu", "R", "Ri", "Rj", "radius", "E", "mus", "Rw")
 #: Closed-open ranges ``[lo, hi)`` of bounded parameters (Poisson ratio: Lai's
 #: k_t has nu/(2(1 - nu)); rolling friction may be 0: no rolling resistance).
 _RANGES = {"nu": (0.0, 0.5), "mur": (0.0, float("inf"))}
@@ -82,8 +145,8 @@ _RANGES = {"nu": (0.0, 0.5), "mur": (0.0, float("inf"))}
 def check_parameters(**values):
     """Raise ParameterError naming the first bad parameter.
 
-    Radii, stiffnesses, E* and the friction coefficients mu, mus must be
-    finite and > 0; nu in [0, 0.5); mur >= 0; every other value finite.
+    Radii (the wall's radius of curvature Rw too), stiffnesses, E* and the
+    friction coefficients mu, mus must be finite and > 0; nu in [0, 0.5); mur >= 0; every other value finite.
     """
     for key, v in values.items():
         try:

@@ -15,7 +15,9 @@ block ``K = dF/dq`` (with history) is compared with
 
 Every perturbation moves q *and* advances the tangential history by the law's
 increment rule, written here by hand from the papers (Charan Eq. 2, Ishima
-Eq. D4), independently of the SymPy source.
+Eq. D4), independently of the SymPy source.  The laws are the
+``(kn, kt, [mu], t)`` family :data:`fricstab.laws.LAW_NAMES`: hertz,
+hertz_wall, charan, charan_wall, ishima, ishima_wall.
 
 Relative error of a block: for each row (one force or torque component) the
 largest ``|K - K_ref|`` divided by the largest ``|K_ref|`` of that row; a row
@@ -159,15 +161,16 @@ def reference_increment(law, args, sqrt=math.sqrt):
 
     Pair (Charan Eq. 2; Ishima Eq. D4 with arms 1 in the l coordinates):
     ``dt = (I - n n^T)(dr_i - dr_j) + (a_i dq3_i + a_j dq3_j)(n_y, -n_x)``.
-    Wall (Charan Eq. 2): ``dt = dx + R dtheta``.  With ``sqrt=mpmath.sqrt``
-    and mpmath inputs it is evaluated in that precision (an object array).
+    Wall (Charan Eq. 2): ``dt = dx + R dtheta``; in Ishima's coordinates
+    ``dt = dx + dl`` (``l = R theta``).  With ``sqrt=mpmath.sqrt`` and mpmath
+    inputs it is evaluated in that precision (an object array).
     """
     a = dict(zip(law.inputs, args))
     if not law.history:
         return np.zeros((0, len(law.coords)))
     one, zero = a["kn"] / a["kn"], a["kn"] * 0
     if law.kind == "wall":
-        return np.array([[one, zero, a["R"]]])
+        return np.array([[one, zero, a["R"] if law.coords[2].startswith("theta") else one]])
     r = sqrt(a["dx"] * a["dx"] + a["dy"] * a["dy"])
     nx, ny = a["dx"] / r, a["dy"] / r
     arm_i, arm_j = (a["Ri"], a["Rj"]) if law.coords[2].startswith("theta") else (one, one)

@@ -1,8 +1,11 @@
-"""Proof of the generated ``lee_hurley`` blocks against independent references.
+"""Proof of the generated ``lee_hurley`` and ``lee_hurley_wall`` blocks.
 
 The same four references as :mod:`fricstab.laws.verify` (which serves the
-``(kn, kt, mu, t)`` family), for the Lee & Hurley law with capped scalar
-histories and the implicit contact width:
+``(kn, kt, [mu], t)`` family), for the Lee & Hurley law with capped scalar
+histories and the implicit contact width, in both forms: a pair of disks
+(``lee_hurley``, args ``dx, dy, Ri, Rj, E, nu, mus, mur, ft, mr``) and a disk
+on the flat wall y = 0 (``lee_hurley_wall``, args
+``y, R, E, nu, mus, mur, Rw, ft, mr``; ``Rw`` the wall's radius of curvature):
 
 * complex step through the generated force kernel compiled for complex128
   (``h = 1e-20 L``), which differentiates through the Newton solver of the
@@ -12,23 +15,33 @@ histories and the implicit contact width:
 * float64 central differences at the best step of a sweep;
 * central differences of the generated force source in 50-digit arithmetic
   (``mpmath``), with the contact width from Lambert W (an independent
-  solution of Eq. A2: ``lam = -W_{-1}(-e delta/(4 (R_i + R_j)))``);
+  solution of Eq. A2: ``lam = -W_{-1}(-e delta/(4 (R_1 + R_2)))``);
 * a Taylor test in 50 digits, remainder slope 2.
 
 Every perturbation moves q and advances the trial histories by the increment
 rule written here by hand from the paper, independently of the SymPy source:
 ``d ft = k_t d delta_t``, ``d delta_t = t . (dr_i - dr_j) - (R_i dth_i + R_j dth_j)``
 with ``t = (-n_y, n_x)`` and Lai's ``k_t`` (A8, A9) at the base point, and
-``d mr = -k_r (dth_i - dth_j)`` (A14, A15).
+``d mr = -k_r (dth_i - dth_j)`` (A14, A15); at the wall (``n = (0, 1)``,
+``t = (-1, 0)``, the wall does not move) ``d ft = -k_t (dx + R dth)``,
+``d mr = -k_r dth``, with ``k_t``, ``k_r`` of the cylinders ``R`` and ``Rw``.
 
-Cases (:class:`ShearCase`) are dimensionless: ``E* = 1``, ``R_i = 0.5``; the
-histories are multiples of their caps, ``ft = t_ratio mu_s F_n``,
+Cases (:class:`ShearCase`) are dimensionless: ``E* = 1``, ``R_i = R = 0.5``,
+``radius_ratio`` is ``R_j/R_i`` (pair) or ``Rw/R`` (wall); the histories are
+multiples of their caps, ``ft = t_ratio mu_s F_n``,
 ``mr = r_ratio mu_r R_r F_n`` (a ratio above 1 is a sliding contact).
-Ratios within 1e-6 of 1 are kept out of the difference checks (a step would
-cross the cap, where the block jumps by design); the caps are tested by their
-one-sided limits in tests/test_lee_hurley.py.
 
-Run ``python -m fricstab.laws.verify_lee_hurley --cases 2000 --json out.json``.
+**Histories on a cap.**  Ratios within 1e-6 of 1 are kept out of these
+difference checks, and a ratio of exactly 1 is never sampled: a difference
+step would cross the cap, where the block jumps by design.  A history exactly
+on its cap takes the sliding branch (``|ft| >= cap``, the loading direction's
+one-sided derivative); tests/test_lee_hurley.py checks that case by complex
+step (which keeps the real part on the cap, so differentiates the sliding
+branch) and by the limit from beyond the cap, and checks the jump between the
+one-sided limits.
+
+Run ``python -m fricstab.laws.verify_lee_hurley --cases 2000 --json out.json``
+(both forms; ``--law lee_hurley_wall`` for one).
 """
 
 import argparse
@@ -43,14 +56,19 @@ import numpy as np
 
 from fricstab._numerics import contact_halfwidth, overlap_correction
 from fricstab.generated import lee_hurley as _gen
+from fricstab.generated import lee_hurley_wall as _gen_wall
 from fricstab.laws.verify import (  # the bounds and steps of the kernel proofs, shared
     CENTRAL_BOUND, COMPLEX_STEP, EPS, EXACT_BOUND, MP_DPS, MP_STEP, ROUNDING_ULPS,
     TAYLOR_STEPS, pick_extreme, row_relative_error)
 
-__all__ = ["EXTREMES", "failures", "REGIMES", "ShearCase", "case_inputs", "complex_step_jacobian",
-           "central_jacobian", "central_resolvable", "exact_bound", "generated_jacobian", "lai_kt",
-           "mp_central_jacobian", "reference_increment", "sample_cases", "taylor_slope",
-           "verify_case", "verify_cases", "main"]
+__all__ = ["EXTREMES", "LAWS", "REGIMES", "WALL_EXTREMES", "ShearCase", "case_inputs",
+           "central_jacobian", "central_resolvable", "complex_step_jacobian", "exact_bound",
+           "failures", "generated_jacobian", "lai_kt", "law_of", "main", "mp_central_jacobian",
+           "reference_increment", "row_terms", "sample_cases", "taylor_slope", "verify_case",
+           "verify_cases"]
+
+#: The two forms this module proves.
+LAWS = ("lee_hurley", "lee_hurley_wall")
 
 #: Central-difference steps, times the column length: 1e-1 down to 1e-12 (the
 #: other laws go down to 1e-14).
@@ -66,6 +84,8 @@ EXTREMES = {
     "mus": (0.01, 2.0),
     "mur": (1e-4, 0.5),
 }
+#: The wall form: ``radius_ratio`` is Rw/R, up to a nearly flat wall (100 R).
+WALL_EXTREMES = {**EXTREMES, "radius_ratio": (0.2, 100.0)}
 #: (tangential slides, rolling slides) per regime.
 REGIMES = {"stick": (False, False), "slide_t": (True, False),
            "slide_r": (False, True), "slide_both": (True, True)}
@@ -73,8 +93,42 @@ LAW_INPUTS = _gen.INPUTS
 
 
 @dataclass(frozen=True)
+class _Form:
+    """Layout of one form's kernel arguments."""
+
+    name: str
+    gen: object
+    n_args: int
+    nq: int
+    hist: tuple      # indices of ft, mr in the arguments
+    rotations: tuple  # rotation columns
+
+
+_FORMS = {
+    10: _Form("lee_hurley", _gen, 10, 6, (8, 9), (2, 5)),
+    9: _Form("lee_hurley_wall", _gen_wall, 9, 3, (7, 8), (2,)),
+}
+
+
+def _form(args):
+    try:
+        return _FORMS[len(args)]
+    except KeyError:
+        raise ValueError(f"{len(args)} arguments: neither lee_hurley (10) nor "
+                         "lee_hurley_wall (9)") from None
+
+
+def law_of(args):
+    """The law (``lee_hurley`` or ``lee_hurley_wall``) whose kernel takes ``args``."""
+    return _form(args).name
+
+
+@dataclass(frozen=True)
 class ShearCase:
-    """One dimensionless ``lee_hurley`` configuration (module docstring)."""
+    """One dimensionless ``lee_hurley`` configuration (module docstring).
+
+    ``phi`` (the orientation of the pair) is unused by the wall form.
+    """
 
     delta_over_R: float
     radius_ratio: float
@@ -86,8 +140,8 @@ class ShearCase:
     r_ratio: float
 
 
-def _pick(rng, key, p, log=True):
-    return pick_extreme(rng, *EXTREMES[key], p, log)
+def _pick(rng, ranges, key, p, log=True):
+    return pick_extreme(rng, *ranges[key], p, log)
 
 
 def _ratio(rng, slides, p):
@@ -100,19 +154,24 @@ def _ratio(rng, slides, p):
     return float(mag if rng.uniform() < 0.5 else -mag)
 
 
-def sample_cases(n, seed, p_extreme=0.15):
-    """``n`` cases, a quarter in each regime of :data:`REGIMES`, seeded."""
+def sample_cases(n, seed, p_extreme=0.15, law="lee_hurley"):
+    """``n`` cases, a quarter in each regime of :data:`REGIMES`, seeded.
+
+    ``law`` picks the ranges (:data:`EXTREMES` or :data:`WALL_EXTREMES`); the
+    pair's draws are those of the single-form sampler before the wall form.
+    """
+    ranges = WALL_EXTREMES if law == "lee_hurley_wall" else EXTREMES
     rng = np.random.default_rng(seed)
     names = list(REGIMES)
     out = []
     for k in range(n):
         st, sr = REGIMES[names[k % 4]]
         out.append(ShearCase(
-            delta_over_R=_pick(rng, "delta_over_R", p_extreme),
-            radius_ratio=_pick(rng, "radius_ratio", p_extreme),
+            delta_over_R=_pick(rng, ranges, "delta_over_R", p_extreme),
+            radius_ratio=_pick(rng, ranges, "radius_ratio", p_extreme),
             phi=float(rng.uniform(0.0, 2 * math.pi)),
-            nu=_pick(rng, "nu", p_extreme, log=False),
-            mus=_pick(rng, "mus", p_extreme), mur=_pick(rng, "mur", p_extreme),
+            nu=_pick(rng, ranges, "nu", p_extreme, log=False),
+            mus=_pick(rng, ranges, "mus", p_extreme), mur=_pick(rng, ranges, "mur", p_extreme),
             t_ratio=_ratio(rng, st, p_extreme), r_ratio=_ratio(rng, sr, p_extreme)))
     return out
 
@@ -132,70 +191,118 @@ def _overlap(dx, dy, ri, rj):
     return naive + overlap_correction(dx, dy, ri, rj, naive)
 
 
-def case_inputs(case, radius=0.5, e_star=1.0):
-    """Kernel arguments (``dx, dy, Ri, Rj, E, nu, mus, mur, ft, mr``) of a case."""
-    ri, rj = radius, radius * case.radius_ratio
-    r = ri + rj - case.delta_over_R * min(ri, rj)
-    dx, dy = r * math.cos(case.phi), r * math.sin(case.phi)
-    delta = _overlap(dx, dy, ri, rj)
-    a = contact_halfwidth(delta, ri, rj)
-    fn = math.pi * e_star * a * a * (ri + rj) / (4 * ri * rj)  # = k_n delta (A2, Johnson)
-    rr = ri * rj / (ri + rj)
-    return (dx, dy, ri, rj, e_star, case.nu, case.mus, case.mur,
-            case.t_ratio * case.mus * fn, case.r_ratio * case.mur * rr * fn)
+def _geometry(args):
+    """(delta as the kernel sees it, radius 1, radius 2, normal (nx, ny)) of ``args``."""
+    if _form(args).name == "lee_hurley":
+        dx, dy, ri, rj = args[:4]
+        r = math.hypot(dx, dy)
+        return _overlap(dx, dy, ri, rj), ri, rj, (dx / r, dy / r)
+    y, rad, rw = args[0], args[1], args[6]
+    return rad - y, rad, rw, (0.0, 1.0)
+
+
+def _materials(args):
+    """(E*, nu, mus, mur, ft, mr) of ``args``."""
+    f = _form(args)
+    e_star, nu, mus, mur = args[4:8] if f.name == "lee_hurley" else args[2:6]
+    return e_star, nu, mus, mur, args[f.hist[0]], args[f.hist[1]]
+
+
+def case_inputs(case, radius=0.5, e_star=1.0, law="lee_hurley"):
+    """Kernel arguments of a case: ``dx, dy, Ri, Rj, E, nu, mus, mur, ft, mr`` (pair) or
+    ``y, R, E, nu, mus, mur, Rw, ft, mr`` (wall)."""
+    r1, r2 = radius, radius * case.radius_ratio
+    if law == "lee_hurley_wall":
+        y = r1 - case.delta_over_R * min(r1, r2)
+        delta = r1 - y  # as the kernel sees it
+    else:
+        r = r1 + r2 - case.delta_over_R * min(r1, r2)
+        dx, dy = r * math.cos(case.phi), r * math.sin(case.phi)
+        delta = _overlap(dx, dy, r1, r2)
+    a = contact_halfwidth(delta, r1, r2)
+    fn = math.pi * e_star * a * a * (r1 + r2) / (4 * r1 * r2)  # = k_n delta (A2, Johnson)
+    rr = r1 * r2 / (r1 + r2)
+    ft, mr = case.t_ratio * case.mus * fn, case.r_ratio * case.mur * rr * fn
+    if law == "lee_hurley_wall":
+        return (y, r1, e_star, case.nu, case.mus, case.mur, r2, ft, mr)
+    return (dx, dy, r1, r2, e_star, case.nu, case.mus, case.mur, ft, mr)
 
 
 def reference_increment(args, mp=False):
-    """``d(ft, mr)/dq`` (2 x 6) from the paper's rules (module docstring)."""
-    dx, dy, ri, rj, e_star, nu = args[:6]
+    """``d(ft, mr)/dq`` (2 x 6 pair, 2 x 3 wall) from the paper's rules (module docstring)."""
+    wall = _form(args).name == "lee_hurley_wall"
+    e_star, nu = _materials(args)[:2]
+    if wall:
+        y, ri, rj = args[0], args[1], args[6]
+    else:
+        dx, dy, ri, rj = args[:4]
     if mp:
-        r = mpmath.sqrt(dx * dx + dy * dy)
-        delta = ri + rj - r
+        if wall:
+            delta = ri - y
+        else:
+            r = mpmath.sqrt(dx * dx + dy * dy)
+            delta = ri + rj - r
         lam = -mpmath.lambertw(-mpmath.e * delta / (4 * (ri + rj)), -1).real
         a = 4 * mpmath.sqrt(ri * rj) * mpmath.exp(-(lam + 1) / 2)
         kt = lai_kt(a, ri, rj, e_star, nu, log=mpmath.log)
         kr = mpmath.pi * e_star * (ri * rj / (ri + rj)) ** 2 / 4
         zero = mpmath.mpf(0)
     else:
-        r = math.hypot(dx, dy)
-        a = contact_halfwidth(_overlap(dx, dy, ri, rj), ri, rj)
+        if not wall:
+            r = math.hypot(dx, dy)
+        delta = ri - y if wall else _overlap(dx, dy, ri, rj)
+        a = contact_halfwidth(delta, ri, rj)
         kt = lai_kt(a, ri, rj, e_star, nu)
         kr = math.pi * e_star * (ri * rj / (ri + rj)) ** 2 / 4
         zero = 0.0
+    if wall:
+        # t = (-1, 0): d ft = k_t (-dx - R dth); d mr = -k_r dth
+        return np.array([[-kt, zero, -kt * ri], [zero, zero, -kr]])
     nx, ny = dx / r, dy / r
     return np.array([[-kt * ny, kt * nx, -kt * ri, kt * ny, -kt * nx, -kt * rj],
                      [zero, zero, -kr, zero, zero, kr]])
 
 
-def _columns(args):
-    """Per column: ((input index, sign) of the moved centre coordinate, or None; length).
+def _contact(args):
+    f = _form(args)
+    out = np.empty(9)
+    getattr(f.gen, f"{f.name}_contact")(*(float(x) for x in args), out)
+    return out
+
+
+def _columns(args, shorten=True):
+    """Per column: ((input index, sign) of the moved coordinate, or None; length).
 
     The length is the overlap delta (over the radius for a rotation), shortened
-    to a quarter of the distance to the nearer cap along that column, so that
-    no difference step crosses a cap (where the block jumps by design):
-    ``|d(|h| - cap)/dq_k| <= |A_k| + mu |dF_n/dq_k|`` with
-    ``|dF_n/dq_k| <= pi E*/(lam - 1)``.
+    (unless ``shorten`` is false) to a quarter of the distance to the nearer
+    cap along that column, so that no difference step crosses a cap (where the
+    block jumps by design): ``|d(|h| - cap)/dq_k| <= |A_k| + mu |dF_n/dq_k|``
+    with ``|dF_n/dq_k| <= pi E*/(lam - 1)``.  At the wall the x column moves
+    only the tangential history and the y column only the caps.
     """
-    dx, dy, ri, rj, e_star, nu, mus, mur, ft, mr = args[:10]
-    delta = _overlap(dx, dy, ri, rj)
-    out = np.empty(9)
-    _gen.lee_hurley_contact(*(float(x) for x in args), out)
-    _, _, kn, kt, kr, fn, _, _, _ = out
+    f = _form(args)
+    e_star, _, mus, mur, ft, mr = _materials(args)
+    delta, ri, rj, _ = _geometry(args)
+    _, _, kn, kt, kr, fn, _, _, _ = _contact(args)
     stiff = math.pi * e_star / (math.pi * e_star / kn - 1.0)
     rr = ri * rj / (ri + rj)
     gaps = (abs(mus * fn - abs(ft)), abs(mur * rr * fn - abs(mr)))
     cols = []
-    for k in range(6):
+    for k in range(f.nq):
         p, c = divmod(k, 3)
-        sign = 1.0 if p == 0 else -1.0
         arm = ri if p == 0 else rj
+        if f.name == "lee_hurley":
+            sign = 1.0 if p == 0 else -1.0
+            geo = (c, sign) if c < 2 else None
+            dfn = stiff if c < 2 else 0.0
+            rates = ((kt * (1.0 if c < 2 else arm)) + mus * dfn,
+                     (kr if c == 2 else 0.0) + mur * rr * dfn)
+        else:
+            geo = (0, 1.0) if c == 1 else None
+            rates = ((kt, 0.0), (mus * stiff, mur * rr * stiff), (kt * arm, kr))[c]
         length = delta if c < 2 else delta / arm
-        geo = (c, sign) if c < 2 else None
-        dfn = stiff if c < 2 else 0.0
-        rates = ((kt * (1.0 if c < 2 else arm)) + mus * dfn,
-                 (kr if c == 2 else 0.0) + mur * rr * dfn)
         for gap, rate in zip(gaps, rates):
-            if rate > 0.0:
+            if shorten and rate > 0.0:
                 length = min(length, 0.25 * gap / rate)
         cols.append((geo, length))
     return cols
@@ -205,44 +312,59 @@ def central_resolvable(args):
     """Whether float64 differences can reach 1e-6: every column length >= 1e7 ulp(r).
 
     The rounding floor of a central difference is ~eps r / h and its truncation
-    (h / L)^2; with L >= 1e7 ulp the best step leaves both below ~1e-7.
+    (h / L)^2; with L >= 1e7 ulp the best step leaves both below ~1e-7.  ``r``
+    is the centre distance (pair) or the height y (wall); a rotation column's
+    length is compared over the larger radius.
     """
-    r = math.hypot(args[0], args[1])
-    return all(length >= 1e7 * math.ulp(r) * (1.0 if geo is not None else 1.0 / max(args[2], args[3]))
-               for geo, length in _columns(args))
+    f = _form(args)
+    size = math.hypot(args[0], args[1]) if f.name == "lee_hurley" else args[0]
+    rmax = max(args[2], args[3]) if f.name == "lee_hurley" else args[1]
+    return all(length >= 1e7 * math.ulp(size) * (1.0 / rmax if k in f.rotations else 1.0)
+               for k, (_, length) in enumerate(_columns(args)))
 
 
 def generated_jacobian(args):
     """Forces and block from the generated float64 kernel."""
-    f, jac = np.empty(6), np.empty((6, 6))
-    _gen.lee_hurley_force_jacobian(*args, f, jac)
-    return f, jac
+    f = _form(args)
+    fo, jac = np.empty(f.nq), np.empty((f.nq, f.nq))
+    getattr(f.gen, f"{f.name}_force_jacobian")(*args, fo, jac)
+    return fo, jac
 
 
 def _moved(args, inc, k, geo, h):
+    f = _form(args)
     z = list(args)
     if geo is not None:
         z[geo[0]] = z[geo[0]] + geo[1] * h
-    z[8] = z[8] + inc[0, k] * h
-    z[9] = z[9] + inc[1, k] * h
+    z[f.hist[0]] = z[f.hist[0]] + inc[0, k] * h
+    z[f.hist[1]] = z[f.hist[1]] + inc[1, k] * h
     return z
 
 
-def complex_step_jacobian(args, inc):
-    """``Im F(q + i h e_k, history + i h A e_k)/h``, column by column."""
-    jac = np.empty((6, 6))
-    out = np.empty(6, dtype=complex)
-    for k, (geo, length) in enumerate(_columns(args)):
+def complex_step_jacobian(args, inc, shorten=True):
+    """``Im F(q + i h e_k, history + i h A e_k)/h``, column by column.
+
+    The branches are chosen on real parts, which the step leaves unchanged:
+    a history exactly on its cap is differentiated on its sliding branch.
+    ``shorten=False`` keeps the full column lengths (:func:`_columns`), which
+    a history on its cap needs (its distance to the cap is 0).
+    """
+    f = _form(args)
+    force = getattr(f.gen, f"{f.name}_force")
+    jac = np.empty((f.nq, f.nq))
+    out = np.empty(f.nq, dtype=complex)
+    for k, (geo, length) in enumerate(_columns(args, shorten)):
         h = COMPLEX_STEP * length
         z = _moved([complex(x) for x in args], inc, k, geo, 1j * h)
-        _gen.lee_hurley_force(*z, out)
+        force(*z, out)
         jac[:, k] = out.imag / h
     return jac
 
 
 def _force(args):
-    out = np.empty(6)
-    _gen.lee_hurley_force(*args, out)
+    f = _form(args)
+    out = np.empty(f.nq)
+    getattr(f.gen, f"{f.name}_force")(*args, out)
     return out
 
 
@@ -250,9 +372,10 @@ def central_jacobian(args, inc, jac_generated):
     """float64 central differences at the best step per column (V-curve bottom)."""
     absj = np.abs(jac_generated)
     scale = np.where(absj.max(axis=1) > 0, absj.max(axis=1), absj.max())
-    jac = np.empty((6, 6))
+    nq = _form(args).nq
+    jac = np.empty((nq, nq))
     for k, (geo, length) in enumerate(_columns(args)):
-        best, col_best = math.inf, np.zeros(6)
+        best, col_best = math.inf, np.zeros(nq)
         for s in CENTRAL_STEPS:
             h = s * length
             if geo is not None:  # the step representable in the moved input
@@ -272,9 +395,10 @@ def _mp_lambda(delta, ri, rj):
     return -mpmath.lambertw(-mpmath.e * delta / (4 * (ri + rj)), -1).real
 
 
-def _mp_function(which):
+def _mp_function(which, law="lee_hurley"):
     """The generated kernel's Python source run with mpmath numbers."""
-    py = getattr(_gen, f"lee_hurley_{which}").py_func
+    gen = _gen if law == "lee_hurley" else _gen_wall
+    py = getattr(gen, f"{law}_{which}").py_func
     shim = types.SimpleNamespace(sqrt=mpmath.sqrt, log=mpmath.log, exp=mpmath.exp, pi=mpmath.pi)
     names = {**py.__globals__, "np": shim, "overlap_correction": lambda *a: 0,
              "cylinder_lambda": _mp_lambda}
@@ -283,17 +407,19 @@ def _mp_function(which):
 
 def mp_central_jacobian(args):
     """Central differences of the generated force source in >= 50 digits."""
-    fn = _mp_function("force")
-    jac = np.empty((6, 6))
+    f = _form(args)
+    fn = _mp_function("force", f.name)
+    jac = np.empty((f.nq, f.nq))
     # Steps of 1e-20 L on coordinates of size r: keep 30 digits of the
     # difference however short L is (near a cap, L ~ gap * delta).
-    shortest = min(length for _, length in _columns(args)) / math.hypot(args[0], args[1])
+    size = math.hypot(args[0], args[1]) if f.name == "lee_hurley" else args[0]
+    shortest = min(length for _, length in _columns(args)) / size
     with mpmath.workdps(max(MP_DPS, int(50 - math.log10(shortest)))):
         base = [mpmath.mpf(x) for x in args]
         inc = reference_increment(base, mp=True)
         for k, (geo, length) in enumerate(_columns(args)):
             h = mpmath.mpf(MP_STEP) * mpmath.mpf(length)
-            fp, fm = [mpmath.mpf(0)] * 6, [mpmath.mpf(0)] * 6
+            fp, fm = [mpmath.mpf(0)] * f.nq, [mpmath.mpf(0)] * f.nq
             fn(*_moved(base, inc, k, geo, h), fp)
             fn(*_moved(base, inc, k, geo, -h), fm)
             jac[:, k] = [float((p - m) / (2 * h)) for p, m in zip(fp, fm)]
@@ -307,33 +433,35 @@ def taylor_slope(args, direction):
     by the reference increment.  Returns (slope or None, remainders), the
     remainders relative to each row's largest block entry times |dq|.
     """
-    fn, jfn = _mp_function("force"), _mp_function("force_jacobian")
+    f = _form(args)
+    nq = f.nq
+    fn, jfn = _mp_function("force", f.name), _mp_function("force_jacobian", f.name)
     cols = _columns(args)
     dq = [d * length for d, (_, length) in zip(direction, cols)]
     errs = []
     with mpmath.workdps(MP_DPS):
         base = [mpmath.mpf(x) for x in args]
-        f0 = [mpmath.mpf(0)] * 6
-        jac = np.empty((6, 6), dtype=object)
+        f0 = [mpmath.mpf(0)] * nq
+        jac = np.empty((nq, nq), dtype=object)
         jfn(*base, f0, jac)
         mdq = [mpmath.mpf(x) for x in dq]
-        lin = [mpmath.fsum(jac[a, b] * mdq[b] for b in range(6)) for a in range(6)]
-        rows = [max(abs(jac[a, b]) for b in range(6)) for a in range(6)]
+        lin = [mpmath.fsum(jac[a, b] * mdq[b] for b in range(nq)) for a in range(nq)]
+        rows = [max(abs(jac[a, b]) for b in range(nq)) for a in range(nq)]
         block = max(rows)
         rows = [(r if r > 0 else block) * max(abs(x) for x in mdq) for r in rows]
         inc = reference_increment(base, mp=True)
-        dh = [mpmath.fsum(inc[row, k] * mdq[k] for k in range(6)) for row in range(2)]
+        dh = [mpmath.fsum(inc[row, k] * mdq[k] for k in range(nq)) for row in range(2)]
         for h in TAYLOR_STEPS:
             hh = mpmath.mpf(h)
             z = list(base)
             for k, (geo, _) in enumerate(cols):
                 if geo is not None:
                     z[geo[0]] += geo[1] * hh * mdq[k]
-            z[8] += hh * dh[0]
-            z[9] += hh * dh[1]
-            f1 = [mpmath.mpf(0)] * 6
+            z[f.hist[0]] += hh * dh[0]
+            z[f.hist[1]] += hh * dh[1]
+            f1 = [mpmath.mpf(0)] * nq
             fn(*z, f1)
-            errs.append(float(max(abs(f1[a] - f0[a] - hh * lin[a]) / rows[a] for a in range(6))))
+            errs.append(float(max(abs(f1[a] - f0[a] - hh * lin[a]) / rows[a] for a in range(nq))))
     errs = np.array(errs)
     ok = errs > 1e-30
     if ok.sum() < 3:
@@ -342,28 +470,41 @@ def taylor_slope(args, direction):
     return float(np.polyfit(np.log(np.array(TAYLOR_STEPS)[use]), np.log(errs[use]), 1)[0]), errs
 
 
+def row_terms(args):
+    """Per row of the block, the size of the terms the row sums.
+
+    A pair's force row: the normal tangent stiffness ``pi E*/(lam - 1)`` with
+    ``mu_s`` times it (sliding), ``|F_n|/r`` and ``|ft_c|/r`` (rotation of n)
+    and ``k_t``; a torque row ``R_max`` times that plus ``k_r`` and
+    ``mu_r R_max`` times the normal stiffness.  At the wall (n fixed): the
+    tangential row ``k_t max(1, R) + mu_s pi E*/(lam - 1)``, the normal row
+    ``pi E*/(lam - 1)``, the torque row ``R (k_t R + mu_s ...) + k_r + mu_r R_r ...``.
+    """
+    f = _form(args)
+    e_star, _, mus, mur, _, _ = _materials(args)
+    delta, ri, rj, _ = _geometry(args)
+    _, _, kn, kt, kr, fn, ftc, _, _ = _contact(args)
+    lam = math.pi * e_star / kn
+    stiff = math.pi * e_star / (lam - 1.0)
+    if f.name == "lee_hurley_wall":
+        rr = ri * rj / (ri + rj)
+        return np.array([kt * max(1.0, ri) + mus * stiff, stiff,
+                         ri * (kt * ri + mus * stiff) + kr + mur * rr * stiff])
+    r = math.hypot(args[0], args[1])
+    force_terms = stiff * (1 + mus) + (fn + abs(ftc)) / r + kt
+    rmax = max(ri, rj)
+    return np.array([force_terms, force_terms, rmax * force_terms + kr + mur * rmax * stiff] * 2)
+
+
 def exact_bound(args, jac):
     """Bound against exact references: 64 eps of the terms a row sums.
 
-    The terms of a force row are the normal tangent stiffness
-    ``pi E*/(lam - 1)``, ``|F_n|/r`` and ``|ft_c|/r`` (rotation of n), ``k_t``
-    and ``mu_s dF_n`` (sliding); a torque row has ``R (k_t R + ...)`` and
-    ``k_r``.  Their sum over the row's largest entry is the cancellation
-    factor kappa; the bound is ``max(1e-12, 64 eps kappa)``.
+    The terms are :func:`row_terms`; their sum over the row's largest entry is
+    the cancellation factor kappa; the bound is ``max(1e-12, 64 eps kappa)``.
     """
-    dx, dy, ri, rj, e_star, nu, mus, mur, ft, mr = args
-    r = math.hypot(dx, dy)
-    out = np.empty(9)
-    _gen.lee_hurley_contact(*args, out)
-    delta, a, kn, kt, kr, fn, ftc, mrc, _ = out
-    lam = math.pi * e_star / kn
-    stiff = math.pi * e_star / (lam - 1.0)
-    force_terms = stiff * (1 + mus) + (fn + abs(ftc)) / r + kt
-    rmax = max(ri, rj)
-    terms = np.array([force_terms, force_terms, rmax * force_terms + kr + mur * rmax * stiff] * 2)
     absj = np.abs(jac)
     rowmax = np.where(absj.max(axis=1) > 0, absj.max(axis=1), absj.max())
-    kappa = max(1.0, float(np.max(terms / rowmax)))
+    kappa = max(1.0, float(np.max(row_terms(args) / rowmax)))
     return max(EXACT_BOUND, ROUNDING_ULPS * EPS * kappa)
 
 
@@ -385,14 +526,17 @@ def verify_case(args, direction, mp=True):
     return res
 
 
-def verify_cases(cases, seed, progress=None):
-    """Run the proof over ``cases``; a JSON-ready summary by regime."""
+def verify_cases(cases, seed, progress=None, law="lee_hurley"):
+    """Run the proof of ``law`` over ``cases``; a JSON-ready summary by regime."""
+    if law not in LAWS:
+        raise ValueError(f"unknown law {law!r}; this module proves {', '.join(LAWS)}")
+    nq = 6 if law == "lee_hurley" else 3
     rng = np.random.default_rng([seed, 1])
     summary = {}
     for k, case in enumerate(cases):
         st, sr = abs(case.t_ratio) > 1, abs(case.r_ratio) > 1
         regime = [n for n, v in REGIMES.items() if v == (st, sr)][0]
-        res = verify_case(case_inputs(case), rng.uniform(-1.0, 1.0, 6))
+        res = verify_case(case_inputs(case, law=law), rng.uniform(-1.0, 1.0, nq))
         s = summary.setdefault(regime, {
             "cases": 0, "nonfinite": 0, "max_rel_err_complex_step": 0.0,
             "complex_step_above_bound": 0, "max_rel_err_central": 0.0,
@@ -418,13 +562,18 @@ def verify_cases(cases, seed, progress=None):
             s["taylor_slope_min"] = min(s["taylor_slope_min"], res["taylor_slope"])
         if progress is not None:
             progress.update(1)
-    return {"law": "lee_hurley", "cases": len(cases), "seed": seed, "regimes": summary}
+    return {"law": law, "cases": len(cases), "seed": seed, "regimes": summary}
 
 
 def main(argv=None):
-    """``python -m fricstab.laws.verify_lee_hurley --cases N --seed S [--json PATH]``; exit 3 on failure."""
+    """``python -m fricstab.laws.verify_lee_hurley [--law NAME] --cases N --seed S [--json PATH]``.
+
+    Prints (and writes) a JSON list with one report per form; exit 3 on failure.
+    """
     parser = argparse.ArgumentParser(prog="python -m fricstab.laws.verify_lee_hurley",
-                                     description="verify the lee_hurley Jacobian blocks")
+                                     description="verify the lee_hurley Jacobian blocks "
+                                                 "(pair and wall forms)")
+    parser.add_argument("--law", choices=LAWS + ("all",), default="all")
     parser.add_argument("--cases", type=int, default=200)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", default=None)
@@ -433,14 +582,18 @@ def main(argv=None):
         print("--cases must be >= 1", file=sys.stderr)
         return 2
     from tqdm import tqdm
-    with tqdm(total=ns.cases, disable=not sys.stderr.isatty()) as bar:
-        report = verify_cases(sample_cases(ns.cases, ns.seed), ns.seed, bar)
-    text = json.dumps(report, indent=2)
+    laws = LAWS if ns.law == "all" else (ns.law,)
+    reports = []
+    with tqdm(total=ns.cases * len(laws), disable=not sys.stderr.isatty()) as bar:
+        for law in laws:
+            reports.append(verify_cases(sample_cases(ns.cases, ns.seed, law=law), ns.seed, bar,
+                                        law=law))
+    text = json.dumps(reports, indent=2)
     print(text)
     if ns.json:
         with open(ns.json, "w") as fh:
             fh.write(text + "\n")
-    return 3 if failures(report) else 0
+    return 3 if sum(failures(r) for r in reports) else 0
 
 
 def failures(report):
