@@ -45,6 +45,9 @@ For each law of :mod:`symbolic.laws` one module is written with
   laws in :data:`LEGACY_ASSEMBLE`, whose loops modules outside the laws still
   import until the engine replaces them.
 
+The templates of the uniform kernels and of the dispatch module are in
+:mod:`symbolic.uniform`, the expression printer in :mod:`symbolic.printing`.
+
 ``fricstab/generated/dispatch.py`` switches on an integer law id
 (``PAIR_LAWS``; a wall form has its pair law's id): ``pair_eval``,
 ``pair_rate``, ``pair_project``, ``pair_advance`` and the same four ``wall_*``.
@@ -68,9 +71,13 @@ import sys
 from pathlib import Path
 
 import sympy as sp
-from sympy.printing.pycode import PythonCodePrinter
 
 from symbolic.laws import CAPPED_LAWS, CONTACT, LAWS, PAIR_LAWS, derive
+from symbolic.printing import body as _body
+from symbolic.printing import code as _code
+from symbolic.uniform import (UNIFORM, capped_advance, capped_project, capped_rate, eval_kernel,
+                              family_advance, family_project, family_rate, generate_dispatch,
+                              normal_lines, uniform_doc, width_lines)
 
 __all__ = ["LEGACY_ASSEMBLE", "clear_numba_cache", "generate_capped_law", "generate_dispatch",
            "generate_law", "main", "render_all"]
@@ -79,7 +86,6 @@ OUT_DIR = Path(__file__).resolve().parent.parent / "fricstab" / "generated"
 COMMAND = "python -m symbolic.codegen"
 TEMPLATE_VERSION = "6"
 CAPPED_TEMPLATE_VERSION = "3"
-DISPATCH_TEMPLATE_VERSION = "1"
 
 #: Laws that keep their generated ``<law>_assemble`` loop: still imported by
 #: fricstab/scenes/pack_system.py (hertz, ishima),
@@ -87,51 +93,6 @@ DISPATCH_TEMPLATE_VERSION = "1"
 #: validation/benchmarks/bench_kernels.py (ishima) until the engine replaces
 #: them.  Every other law has none (the engine assembles).
 LEGACY_ASSEMBLE = ("hertz", "ishima", "lee_hurley")
-
-#: A rescaled vector history lies on the Coulomb circle to rounding: the
-#: recomputed |t| is t* to within ~5 eps (one square root and one division
-#: in the scale, two products, then the norm again).  |t| >= t* (1 - 8 eps)
-#: counts as on the circle (flag bit 1), so a projected history keeps its flag.
-ON_CIRCLE = repr(1.0 - 8.0 * 2.0 ** -52)
-
-
-class _KernelPrinter(PythonCodePrinter):
-    """Python source that numba compiles for float64 and complex128."""
-
-    def _print_Pow(self, expr, rational=False):
-        b, e = expr.base, expr.exp
-        base = self.parenthesize(b, 100)  # atoms stay bare, sums get parentheses
-        if e == sp.Rational(1, 2):
-            return f"np.sqrt({self._print(b)})"
-        if e == -sp.Rational(1, 2):
-            return f"(1.0 / np.sqrt({self._print(b)}))"
-        if e.is_Integer and 2 <= e <= 4:
-            return "(" + " * ".join([base] * int(e)) + ")"
-        if e.is_Integer and -4 <= e <= -1:
-            return "(1.0 / (" + " * ".join([base] * int(-e)) + "))"
-        return super()._print_Pow(expr, rational=rational)
-
-    def _print_log(self, expr):
-        return f"np.log({self._print(expr.args[0])})"
-
-    def _print_exp(self, expr):
-        return f"np.exp({self._print(expr.args[0])})"
-
-    def _print_Pi(self, expr):
-        return "np.pi"
-
-    def _print_Rational(self, expr):
-        return repr(float(expr))
-
-    def _print_Integer(self, expr):
-        return repr(float(expr))
-
-
-_printer = _KernelPrinter({"fully_qualified_modules": False})
-
-
-def _code(expr):
-    return _printer.doprint(expr)
 
 
 def _meta_hash(h, law):
@@ -152,105 +113,6 @@ def _law_hash(law):
 
 
 # ------------------------------------------------------------------ shared pieces
-
-def _body(exprs, targets, prefix="c"):
-    """CSE the expressions and assign them to the target slots."""
-    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols(prefix), order="canonical")
-    lines = [f"{s} = {_code(e)}" for s, e in replacements]
-    lines += [f"{t} = {_code(e)}" for t, e in zip(targets, reduced)]
-    used = set()
-    for e in list(exprs):
-        used |= {str(s) for s in e.free_symbols}
-    return lines, used
-
-
-def _geometry_block(exprs):
-    """CSE of geometry-only expressions (prefix g): (lines, reduced expressions)."""
-    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("g"), order="canonical")
-    return [f"{s} = {_code(e)}" for s, e in replacements], reduced
-
-
-def _geo_args(law):
-    return ["dx", "dy", "Ri", "Rj"] if law.kind == "pair" else ["y", "R"]
-
-
-def _scalar_call(law, names):
-    """Arguments of a scalar kernel taking ``names``, from the uniform ones (p, h)."""
-    hist = [str(s) for s in law.history]
-    out = []
-    for a in names:
-        if a in law.params:
-            out.append(f"p[{law.params.index(a)}]")
-        elif a in hist:
-            out.append(f"h[{hist.index(a)}]")
-        else:
-            out.append(a)
-    return ", ".join(out)
-
-
-def _unpack(law, needed=None):
-    return [f"{n} = p[{k}]" for k, n in enumerate(law.params) if needed is None or n in needed]
-
-
-def _overlap_lines(law):
-    """The overlap exactly as the force kernels compute it (one square root)."""
-    if law.kind == "wall":
-        return ["delta = R - y"]
-    return ["r = np.sqrt(dx * dx + dy * dy)",
-            "delta = Ri + Rj - r",
-            "# the accurate overlap of the force kernels, reusing r (fricstab/_numerics.py)",
-            "delta = delta + overlap_correction_at(dx, dy, Ri, Rj, delta, r)"]
-
-
-def _zero_vec(arr, n):
-    return [f"for k in range({n}):", f"    {arr}[k] = 0.0"] if n else []
-
-
-def _zero_mat(arr, n, m):
-    return [f"for k in range({n}):", f"    for b in range({m}):", f"        {arr}[k, b] = 0.0"] \
-        if n * m else []
-
-
-def _kernel(name, args, doc, body):
-    return ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""'] + \
-        ["    " + ln for ln in body]
-
-
-def _increment_lines(law, reduced):
-    """``h[k] = h[k] + sum_b a[k, b] du[b]``, terms in column order, zeros skipped."""
-    nh, nq = law.increment.shape
-    lines = []
-    for k in range(nh):
-        terms = []
-        for b in range(nq):
-            e = reduced[k * nq + b]
-            if e == 0:
-                continue
-            if e == 1:
-                terms.append(f"du[{b}]")
-            elif e == -1:
-                terms.append(f"-du[{b}]")
-            else:
-                terms.append(f"({_code(e)}) * du[{b}]")
-        if terms:
-            lines.append(f"h[{k}] = h[{k}] + ({' + '.join(terms)})")
-    return lines
-
-
-def _uniform_doc(law):
-    g = "dx, dy, Ri, Rj" if law.kind == "pair" else "y, R"
-    nf, nq = law.jacobian.shape
-    nh = len(law.history)
-    return [
-        "Uniform kernels (float64; the engine's calling convention, dispatch.py):",
-        f"``{law.name}_eval({g}, p, h, f, jac, want_jac)``,",
-        f"``{law.name}_rate({g}, p, a)``, ``{law.name}_project({g}, p, h) -> flags``,",
-        f"``{law.name}_advance({g}, p, h, du, f, aux) -> flags``; p = PARAMS values,",
-        f"h the history row (first N_HIST = {nh} entries), f ({nf}), jac ({nf} x {nq}),",
-        f"a ({nh} x {nq}), du ({nq}), aux ({len(CONTACT)}: {', '.join(CONTACT)});",
-        "flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.",
-    ]
-
 
 def _metadata(law, args):
     """Module constants every generated law carries (read by fricstab.laws)."""
@@ -275,19 +137,6 @@ def _metadata(law, args):
             "#: aux of <law>_advance: secant normal stiffness F_n/delta, tangential",
             "#: stiffness at zero history, rolling stiffness, elastic normal force.",
             f"CONTACT = {CONTACT!r}"]
-
-
-def _eval_kernel(law):
-    args = [str(s) for s in law.inputs]
-    call = _scalar_call(law, args)
-    return _kernel(
-        f"{law.name}_eval", _geo_args(law) + ["p", "h", "f", "jac", "want_jac"],
-        f"Forces from the stored history into f; with want_jac the block dF/dq into jac "
-        f"(= {law.name}_force, {law.name}_force_jacobian).",
-        ["if want_jac:",
-         f"    {law.name}_force_jacobian({call}, f, jac)",
-         "else:",
-         f"    {law.name}_force({call}, f)"])
 
 
 def _legacy_assemble(law, args, nf, nq, nh):
@@ -355,105 +204,6 @@ def _function(name, args, doc, exprs, targets, law, zero_lines):
     return out
 
 
-def _family_rate(law):
-    nh, nq = law.increment.shape
-    name, geo = law.name, _geo_args(law)
-    doc = "Increment rule at this geometry: dh = a @ du; zeros without contact."
-    if not nh:
-        return _kernel(f"{name}_rate", geo + ["p", "a"],
-                       "Increment rule: no history (a has no rows), nothing to write.", ["return"])
-    inc = ", ".join(a for a in geo)
-    body = _overlap_lines(law) + ["if delta <= 0.0:", *["    " + z for z in _zero_mat("a", nh, nq)],
-                                  "    return", f"{name}_increment({inc}, a)"]
-    return _kernel(f"{name}_rate", geo + ["p", "a"], doc, body)
-
-
-def _family_project(law):
-    name, geo = law.name, _geo_args(law)
-    nh = len(law.history)
-    doc = ("History admissible at this geometry, in place: zero without contact"
-           + (", rescaled onto |t| = t* beyond it; flags: 1 on the circle (sliding)."
-              if law.coulomb else "; no cap, flags 0."))
-    if not nh:
-        return _kernel(f"{name}_project", geo + ["p", "h"],
-                       "No history: nothing to project; flags 0.", ["return 0"])
-    body = _overlap_lines(law) + ["if delta <= 0.0:  # a lost contact forgets its history",
-                                  *["    " + z for z in _zero_vec("h", nh)], "    return 0"]
-    if not law.coulomb:
-        return _kernel(f"{name}_project", geo + ["p", "h"], doc, body + ["return 0"])
-    body += _unpack(law)
-    body.append("tstar = mu * kn / kt * delta")
-    if nh == 1:
-        body += ["t = h[0]",
-                 "if abs(t) >= tstar:  # on the cap to the bit: +-t* exactly",
-                 "    h[0] = tstar if t > 0.0 else -tstar",
-                 "    return 1",
-                 "return 0"]
-    else:
-        body += ["tx = h[0]",
-                 "ty = h[1]",
-                 "tn = np.sqrt(tx * tx + ty * ty)",
-                 "if tn > tstar:  # the rescaling of the force kernels",
-                 "    scale = tstar / tn",
-                 "    h[0] = tx * scale",
-                 "    h[1] = ty * scale",
-                 "    return 1",
-                 f"return 1 if tn >= tstar * {ON_CIRCLE} else 0"]
-    return _kernel(f"{name}_project", geo + ["p", "h"], doc, body)
-
-
-def _family_advance(law, force_body):
-    name, geo = law.name, _geo_args(law)
-    nh, nq = law.increment.shape
-    nf = len(law.outputs)
-    g = law.geometry
-    defs = dict(g.intermediates())
-    zero = _zero_vec("h", nh) + _zero_vec("f", nf) + _zero_vec("aux", len(CONTACT))
-    body = _overlap_lines(law) + ["if delta <= 0.0:  # no contact: forget the history",
-                                  *["    " + z for z in zero], "    return 0"]
-    body += _unpack(law)
-    if law.kind == "pair":
-        body += [f"nx = {_code(defs[g.nx])}", f"ny = {_code(defs[g.ny])}"]
-    body.append("sdelta = np.sqrt(delta)")
-    inc = [law.increment[a, b] for a in range(nh) for b in range(nq)]
-    lines, reduced = _geometry_block(inc + list(law.contact))
-    body += lines
-    body += _increment_lines(law, reduced[:len(inc)])
-    hist = [str(h) for h in law.history]
-    body += [f"{c} = h[{k}]" for k, c in enumerate(hist)]
-    flags = "0"
-    if law.coulomb and nh == 1:
-        body += ["tn = abs(t)  # = np.sqrt(t * t) of the force kernel, to the bit",
-                 "tstar = mu * kn / kt * delta",
-                 "flags = 0",
-                 "if tn >= tstar:",
-                 "    t = tstar if t > 0.0 else -tstar",
-                 "    h[0] = t",
-                 "    tn = tstar",
-                 "    flags = 1"]
-        flags = "flags"
-    elif law.coulomb:
-        body += ["tn = np.sqrt(tx * tx + ty * ty)",
-                 "tstar = mu * kn / kt * delta",
-                 "flags = 0",
-                 "if tn > tstar:",
-                 "    scale = tstar / tn",
-                 "    tx = tx * scale",
-                 "    ty = ty * scale",
-                 "    h[0] = tx",
-                 "    h[1] = ty",
-                 "    tn = tstar",
-                 f"if tn >= tstar * {ON_CIRCLE}:",
-                 "    flags = 1"]
-        flags = "flags"
-    body += force_body
-    body += [f"aux[{k}] = {_code(e)}" for k, e in enumerate(reduced[len(inc):])]
-    body.append(f"return {flags}")
-    doc = ("One dynamics step at this geometry (computed once): h += a @ du, project, "
-           "forces from the projected history into f, aux = CONTACT; returns the flags.")
-    return _kernel(f"{name}_advance", geo + ["p", "h", "du", "f", "aux"], doc, body)
-
-
 def generate_law(law):
     """Source text of the generated module for one :class:`symbolic.laws.Law`."""
     args = [str(s) for s in law.inputs]
@@ -471,7 +221,7 @@ def generate_law(law):
         f"Jacobian columns: {', '.join(law.coords)}; jac[a, b] = d f[a] / d q[b]",
         "with the tangential history advanced by the increment rule.",
         "",
-        *_uniform_doc(law),
+        *uniform_doc(law),
         '"""',
         "",
         "import numpy as np",
@@ -512,21 +262,18 @@ def generate_law(law):
     # The force body of the force kernel, verbatim: advance computes the same
     # forces from the same history.
     force_body, _ = _body(list(law.force), force_targets)
-    for part in (_eval_kernel(law), _family_rate(law), _family_project(law),
-                 _family_advance(law, force_body)):
+    for part in (eval_kernel(law), family_rate(law), family_project(law),
+                 family_advance(law, force_body)):
         lines += ["", ""] + part
     lines += _legacy_assemble(law, args, nf, nq, nh)
     return "\n".join(lines) + "\n"
-
-
-_UNIFORM = ("_eval", "_rate", "_project", "_advance")
 
 
 def _suffixes(law):
     s = ["_force", "_force_jacobian"]
     if law.history:
         s.append("_increment")
-    s += list(_UNIFORM)
+    s += list(UNIFORM)
     return s + (["_assemble"] if law.name in LEGACY_ASSEMBLE else [])
 
 
@@ -579,25 +326,6 @@ def _capped_hash(law):
     return h.hexdigest()
 
 
-def _width_lines(law):
-    """Contact width: lam (the one solve) and the half-width hw."""
-    g = law.geometry
-    r1, r2 = ("Ri", "Rj") if law.kind == "pair" else ("R", "Rw")
-    return [
-        f"# Implicit Hertz-cylinder width: lam = ln(4{r1}/a) + ln(4{r2}/a) - 1 (Eq. A2),",
-        f"# raises ValueError beyond the turning point delta = 4 ({r1} + {r2})/e^2.",
-        f"lam = cylinder_lambda(delta, {r1}, {r2})",
-        f"hw = {_code(dict(g.intermediates())[g.hw])}",
-    ]
-
-
-def _normal_lines(law):
-    if law.kind != "pair":
-        return []
-    defs = dict(law.geometry.intermediates())
-    return [f"nx = {_code(defs[law.geometry.nx])}", f"ny = {_code(defs[law.geometry.ny])}"]
-
-
 def _capped_prologue(law, zero_lines, caps=True, domain=True):
     """Overlap, contact width, and (``caps``) the capped histories with flags.
 
@@ -621,7 +349,7 @@ def _capped_prologue(law, zero_lines, caps=True, domain=True):
     lines += ["if delta.real <= 0.0:  # no contact: zero output",
               *["    " + z for z in zero_lines],
               "    return"]
-    lines += _normal_lines(law) + _width_lines(law)
+    lines += normal_lines(law) + width_lines(law)
     if domain:
         for expr, message in law.domain:
             lines += [f"if not ({_code(expr)}).real > 0.0:", f"    raise ValueError({message!r})"]
@@ -664,72 +392,6 @@ def _capped_function(name, args, doc, exprs, targets, law, zero_lines, caps=True
     return out + ["    " + ln for ln in _drop_dead(law, code)]
 
 
-def _capped_project(law):
-    name, geo = law.name, _geo_args(law)
-    ft, mr = (str(h) for h in law.history)
-    cap_t, cap_r = (_code(c) for c in law.caps)
-    used = set().union(*(c.free_symbols for c in law.caps))
-    r1, r2 = ("Ri", "Rj") if law.kind == "pair" else ("R", "Rw")
-    body = _overlap_lines(law) + ["if delta <= 0.0:  # a lost contact forgets its history",
-                                  "    h[0] = 0.0", "    h[1] = 0.0", "    return 0"]
-    body += _unpack(law, {str(s) for s in used} | {r2})
-    body += [f"lam = cylinder_lambda(delta, {r1}, {r2})",
-             "# the caps exactly as the force kernels compute them (A10, A18)",
-             f"cap_t = {cap_t}", f"cap_r = {cap_r}",
-             "flags = 0",
-             f"{ft} = h[0]",
-             f"if abs({ft}) >= cap_t:",
-             f"    h[0] = cap_t if {ft} > 0.0 else -cap_t",
-             "    flags = 1",
-             f"{mr} = h[1]",
-             f"if abs({mr}) >= cap_r:",
-             f"    h[1] = cap_r if {mr} > 0.0 else -cap_r",
-             "    flags += 2",
-             "return flags"]
-    return _kernel(f"{name}_project", geo + ["p", "h"],
-                   "Histories admissible at this geometry, in place: zero without contact, "
-                   "on the cap at or beyond it (A10, A18, A23); flags: 1 tangential, "
-                   "2 rolling on its cap.", body)
-
-
-def _capped_advance(law, force_body):
-    name, geo = law.name, _geo_args(law)
-    nh, nq = law.increment.shape
-    nf = len(law.outputs)
-    ftc, mrc = (str(c) for c in law.capped)
-    zero = _zero_vec("h", nh) + _zero_vec("f", nf) + _zero_vec("aux", len(CONTACT))
-    body = _overlap_lines(law) + ["if delta <= 0.0:  # no contact: forget the history",
-                                  *["    " + z for z in zero], "    return 0"]
-    body += _unpack(law) + _normal_lines(law) + _width_lines(law)
-    inc = [law.increment[a, b] for a in range(nh) for b in range(nq)]
-    (denom, message), = law.domain
-    lines, reduced = _geometry_block([denom] + inc + list(law.contact))
-    body += lines
-    body += [f"if not {_code(reduced[0])} > 0.0:", f"    raise ValueError({message!r})"]
-    body += _increment_lines(law, reduced[1:1 + len(inc)])
-    cap_t, cap_r = (_code(c) for c in law.caps)
-    body += ["# the caps exactly as the force kernels compute them (A10, A18)",
-             f"cap_t = {cap_t}",
-             f"cap_r = {cap_r}",
-             "flags = 0",
-             f"{ftc} = h[0]",
-             f"if abs({ftc}) >= cap_t:",
-             f"    {ftc} = cap_t if {ftc} > 0.0 else -cap_t",
-             f"    h[0] = {ftc}",
-             "    flags = 1",
-             f"{mrc} = h[1]",
-             f"if abs({mrc}) >= cap_r:",
-             f"    {mrc} = cap_r if {mrc} > 0.0 else -cap_r",
-             f"    h[1] = {mrc}",
-             "    flags += 2"]
-    body += force_body
-    body += [f"aux[{k}] = {_code(e)}" for k, e in enumerate(reduced[1 + len(inc):])]
-    body.append("return flags")
-    doc = ("One dynamics step at this geometry (width solved once): h += a @ du, cap, "
-           "forces from the capped history into f, aux = CONTACT; returns the flags.")
-    return _kernel(f"{name}_advance", geo + ["p", "h", "du", "f", "aux"], doc, body)
-
-
 def generate_capped_law(law):
     """Source of the generated module for a :class:`symbolic.laws.CappedLaw`."""
     args = [str(s) for s in law.inputs]
@@ -754,7 +416,7 @@ def generate_capped_law(law):
         f"{', '.join(CONTACT)}, {', '.join(str(c) for c in law.capped)}, sliding flag",
         "(0 none, 1 tangential, 2 rolling, 3 both).",
         "",
-        *_uniform_doc(law),
+        *uniform_doc(law),
         '"""',
         "",
         "import numpy as np",
@@ -804,104 +466,16 @@ def generate_capped_law(law):
         extra=["out[0] = delta", "out[1] = hw", f"out[6] = {law.capped[0]}",
                f"out[7] = {law.capped[1]}", f"out[8] = {law.slides[0]} + 2.0 * {law.slides[1]}"])
     force_body, _ = _body(list(law.force), force_targets)
-    rate = _kernel(f"{law.name}_rate", _geo_args(law) + ["p", "a"],
-                   f"Increment rule at this geometry: dh = a @ du (= {law.name}_increment); "
-                   "zeros without contact.",
-                   [f"{law.name}_increment({_scalar_call(law, inc_args)}, a)"])
-    for part in (_eval_kernel(law), rate, _capped_project(law), _capped_advance(law, force_body)):
+    for part in (eval_kernel(law), capped_rate(law, inc_args), capped_project(law),
+                 capped_advance(law, force_body)):
         lines += ["", ""] + part
     lines += _legacy_assemble(law, args, nf, nq, nh)
     return "\n".join(lines) + "\n"
 
 
 def _capped_suffixes(law):
-    s = ["_force", "_force_jacobian", "_increment", "_contact", *_UNIFORM]
+    s = ["_force", "_force_jacobian", "_increment", "_contact", *UNIFORM]
     return s + (["_assemble"] if law.name in LEGACY_ASSEMBLE else [])
-
-
-# ------------------------------------------------------------------ dispatch
-
-def generate_dispatch(laws):
-    """Source of ``fricstab/generated/dispatch.py`` from ``{name: Law}`` of every law."""
-    pairs = list(PAIR_LAWS)
-    walls = [laws[n].partner for n in pairs]
-    for n, w in zip(pairs, walls):
-        assert laws[w].partner == n and laws[w].n_dof == laws[n].n_dof, (n, w)
-    h = hashlib.sha256(DISPATCH_TEMPLATE_VERSION.encode())
-    h.update(repr([(n, laws[n].params, len(laws[n].history), laws[n].n_dof)
-                   for n in pairs + walls]).encode())
-    lines = [
-        f"# generated by `{COMMAND}`; do not edit. symbolic-inputs-sha256: {h.hexdigest()}",
-        '"""Integer-switch dispatch over the uniform kernels of every contact law.',
-        "",
-        "The id of a law is its index in PAIR_LAWS; its wall form (WALL_LAWS, same",
-        "index) has the same id.  pair_eval, pair_rate, pair_project and pair_advance",
-        "take (law, dx, dy, Ri, Rj, ...), the wall_* functions (law, y, R, ...), then",
-        "the arguments of the per-law kernels (fricstab.generated.<law>: <law>_eval,",
-        "_rate, _project, _advance) and return what they return.  Module-level",
-        "functions calling module-level functions by name keep numba's on-disk cache",
-        "effective; `python -m symbolic.codegen` clears it when any kernel changes.",
-        "",
-        "An unknown id never does nothing silently: project and advance zero their",
-        "outputs (the whole h, f and aux rows) and return UNKNOWN_LAW (-1); eval and",
-        "rate zero their outputs (f, and jac when want_jac; a) and raise ValueError.",
-        '"""',
-        "",
-        "from fricstab._numba import kernel_jit",
-    ]
-    for n in pairs + walls:
-        lines.append(f"from fricstab.generated.{n} import "
-                     + ", ".join(f"{n}{s}" for s in _UNIFORM))
-    tup = lambda xs: repr(tuple(xs))  # noqa: E731
-    lines += [
-        "",
-        "__all__ = [" + ", ".join(repr(f"{k}{s}") for k in ("pair", "wall") for s in _UNIFORM)
-        + ", 'PAIR_LAWS', 'WALL_LAWS', 'N_DOF', 'N_HIST', 'N_HIST_WALL', 'N_PARAMS',"
-        " 'N_PARAMS_WALL', 'UNKNOWN_LAW']",
-        "",
-        "#: Pair laws; the id of a law is its index.",
-        f"PAIR_LAWS = {tup(pairs)}",
-        "#: Their wall forms, same ids.",
-        f"WALL_LAWS = {tup(walls)}",
-        "#: Degrees of freedom per particle (the same for a law's wall form).",
-        f"N_DOF = {tup(laws[n].n_dof for n in pairs)}",
-        f"N_HIST = {tup(len(laws[n].history) for n in pairs)}",
-        f"N_HIST_WALL = {tup(len(laws[n].history) for n in walls)}",
-        f"N_PARAMS = {tup(len(laws[n].params) for n in pairs)}",
-        f"N_PARAMS_WALL = {tup(len(laws[n].params) for n in walls)}",
-        "#: What project and advance return for an unknown law id.",
-        "UNKNOWN_LAW = -1",
-    ]
-    for kind, names, geo in (("pair", pairs, "dx, dy, Ri, Rj"), ("wall", walls, "y, R")):
-        specs = [
-            ("_eval", "p, h, f, jac, want_jac", False,
-             ["for k in range(f.shape[0]):", "    f[k] = 0.0", "if want_jac:",
-              "    for k in range(jac.shape[0]):", "        for b in range(jac.shape[1]):",
-              "            jac[k, b] = 0.0",
-              f"raise ValueError('{kind}_eval: unknown contact law id')"]),
-            ("_rate", "p, a", False,
-             ["for k in range(a.shape[0]):", "    for b in range(a.shape[1]):",
-              "        a[k, b] = 0.0", f"raise ValueError('{kind}_rate: unknown contact law id')"]),
-            ("_project", "p, h", True,
-             ["for k in range(h.shape[0]):", "    h[k] = 0.0", "return UNKNOWN_LAW"]),
-            ("_advance", "p, h, du, f, aux", True,
-             ["for k in range(h.shape[0]):", "    h[k] = 0.0", "for k in range(f.shape[0]):",
-              "    f[k] = 0.0", "for k in range(aux.shape[0]):", "    aux[k] = 0.0",
-              "return UNKNOWN_LAW"]),
-        ]
-        for suffix, rest, returns, unknown in specs:
-            doc = (f"{names[0]}{suffix} ... {names[-1]}{suffix} by law id "
-                   f"({', '.join(f'{i}: {n}' for i, n in enumerate(names))}).")
-            body = []
-            for i, n in enumerate(names):
-                kw = "if" if i == 0 else "elif"
-                call = f"{n}{suffix}({geo}, {rest})"
-                body += [f"{kw} law == {i}:", f"    {'return ' if returns else ''}{call}"]
-                if not returns:
-                    body.append("    return")
-            body += unknown
-            lines += ["", ""] + _kernel(f"{kind}{suffix}", ["law", geo, rest], doc, body)
-    return "\n".join(lines) + "\n"
 
 
 # ------------------------------------------------------------------ files
