@@ -1,4 +1,10 @@
-"""Guards against silent NaN and inf: stop the run and say where it went wrong.
+"""The errors fricstab raises, and the guard against silent NaN and inf.
+
+* :class:`ParameterError`: bad user input; the message names the parameter
+  (exit status 2 on the command line).
+* :class:`ConvergenceError`: an iterative step did not reach its tolerance
+  (exit status 4).
+* :class:`NumericalError`: NaN or inf in a computed quantity (exit status 4).
 
 :class:`NumericalError` carries the step, the item (a particle, a contact
 or a mode) and the quantity; the command line prints its message, says where
@@ -8,9 +14,20 @@ of numerical failure and non-convergence).
 
 import numpy as np
 
-__all__ = ["EXIT_NUMERICAL", "NumericalError", "check_finite"]
+__all__ = ["EXIT_NUMERICAL", "ConvergenceError", "NumericalError", "ParameterError",
+           "check_finite"]
 
 EXIT_NUMERICAL = 4
+
+
+class ParameterError(ValueError):
+    """Bad user input; the message names the parameter."""
+
+
+class ConvergenceError(RuntimeError):
+    """An iterative step of a protocol did not reach its tolerance (exit status 4)."""
+
+    exit_code = EXIT_NUMERICAL
 
 
 class NumericalError(ArithmeticError):

@@ -84,8 +84,8 @@ __all__ = ["LEGACY_ASSEMBLE", "clear_numba_cache", "generate_capped_law", "gener
 
 OUT_DIR = Path(__file__).resolve().parent.parent / "fricstab" / "generated"
 COMMAND = "python -m symbolic.codegen"
-TEMPLATE_VERSION = "6"
-CAPPED_TEMPLATE_VERSION = "3"
+TEMPLATE_VERSION = "8"
+CAPPED_TEMPLATE_VERSION = "5"
 
 #: Laws that keep their generated ``<law>_assemble`` loop: still imported by
 #: fricstab/scenes/pack_system.py (hertz, ishima),
@@ -194,7 +194,7 @@ def _prologue(law, used):
 def _function(name, args, doc, exprs, targets, law, zero_lines):
     body, used = _body(exprs, targets)
     pro = _prologue(law, used)
-    out = ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
+    out = ["@hot_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
     for line in pro:
         if line.strip() == "__ZERO__":
             out += ["    " * 2 + z for z in zero_lines]
@@ -226,7 +226,7 @@ def generate_law(law):
         "",
         "import numpy as np",
         "",
-        "from fricstab._numba import kernel_jit",
+        "from fricstab._numba import hot_inline_jit, hot_jit, kernel_jit",
         *(["from fricstab._numerics import overlap_correction, overlap_correction_at"]
           if law.kind == "pair" else []),
         "",
@@ -254,7 +254,7 @@ def generate_law(law):
         inc_args = [a for a in args if a in ("dx", "dy", "y", "Ri", "Rj", "R")]
         inc = [law.increment[a, b] for a in range(nh) for b in range(nq)]
         body, _ = _body(inc, [f"a[{a}, {b}]" for a in range(nh) for b in range(nq)])
-        lines += ["", "", "@kernel_jit", f"def {law.name}_increment({', '.join(inc_args)}, a):",
+        lines += ["", "", "@hot_jit", f"def {law.name}_increment({', '.join(inc_args)}, a):",
                   '    """Increment rule of the history: dt = a @ dq (a: n_history x n_coords)."""']
         if law.kind == "pair":
             lines += ["    r = np.sqrt(dx * dx + dy * dy)", "    nx = dx / r", "    ny = dy / r"]
@@ -388,7 +388,7 @@ def _capped_function(name, args, doc, exprs, targets, law, zero_lines, caps=True
                      domain=True):
     body, _ = _body(exprs, targets)
     code = _capped_prologue(law, zero_lines, caps, domain) + list(body) + list(extra)
-    out = ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
+    out = ["@hot_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""']
     return out + ["    " + ln for ln in _drop_dead(law, code)]
 
 
@@ -421,7 +421,7 @@ def generate_capped_law(law):
         "",
         "import numpy as np",
         "",
-        "from fricstab._numba import kernel_jit",
+        "from fricstab._numba import hot_inline_jit, hot_jit, kernel_jit",
         "from fricstab._numerics import " + ("cylinder_lambda, overlap_correction, "
                                              "overlap_correction_at" if law.kind == "pair"
                                              else "cylinder_lambda"),

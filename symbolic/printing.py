@@ -70,9 +70,14 @@ def geometry_block(exprs):
     return [f"{s} = {code(e)}" for s, e in replacements], reduced
 
 
-def kernel(name, args, doc, lines):
-    """A ``@kernel_jit`` function ``name(args)`` with docstring ``doc`` and body ``lines``."""
-    return ["@kernel_jit", f"def {name}({', '.join(args)}):", f'    """{doc}"""'] + \
+def kernel(name, args, doc, lines, decorator="hot_jit"):
+    """A jitted function ``name(args)`` with docstring ``doc`` and body ``lines``.
+
+    ``decorator``: ``hot_jit`` (no reference counting, no allocation: every
+    kernel the engine calls per contact; :mod:`fricstab._numba`) or
+    ``kernel_jit`` (a function that allocates).
+    """
+    return [f"@{decorator}", f"def {name}({', '.join(args)}):", f'    """{doc}"""'] + \
         ["    " + ln for ln in lines]
 
 

@@ -34,7 +34,7 @@ __all__ = ["DISPATCH_TEMPLATE_VERSION", "ON_CIRCLE", "UNIFORM", "capped_advance"
            "scalar_call", "uniform_doc", "unpack", "width_lines"]
 
 COMMAND = "python -m symbolic.codegen"
-DISPATCH_TEMPLATE_VERSION = "1"
+DISPATCH_TEMPLATE_VERSION = "4"
 #: Suffixes of the uniform kernels.
 UNIFORM = ("_eval", "_rate", "_project", "_advance")
 
@@ -226,7 +226,7 @@ def family_advance(law, force_body):
     body.append(f"return {flags}")
     doc = ("One dynamics step at this geometry (computed once): h += a @ du, project, "
            "forces from the projected history into f, aux = CONTACT; returns the flags.")
-    return kernel(f"{name}_advance", geo + ["p", "h", "du", "f", "aux"], doc, body)
+    return kernel(f"{name}_advance", geo + ["p", "h", "du", "f", "aux"], doc, body, decorator="hot_inline_jit")
 
 
 # ------------------------------------------------------------------ capped laws
@@ -321,7 +321,7 @@ def capped_advance(law, force_body):
     body.append("return flags")
     doc = ("One dynamics step at this geometry (width solved once): h += a @ du, cap, "
            "forces from the capped history into f, aux = CONTACT; returns the flags.")
-    return kernel(f"{name}_advance", geo + ["p", "h", "du", "f", "aux"], doc, body)
+    return kernel(f"{name}_advance", geo + ["p", "h", "du", "f", "aux"], doc, body, decorator="hot_inline_jit")
 
 
 # ------------------------------------------------------------------ dispatch
@@ -352,7 +352,7 @@ def generate_dispatch(laws):
         "rate zero their outputs (f, and jac when want_jac; a) and raise ValueError.",
         '"""',
         "",
-        "from fricstab._numba import kernel_jit",
+        "from fricstab._numba import hot_inline_jit",
     ]
     for n in pairs + walls:
         lines.append(f"from fricstab.generated.{n} import "
@@ -405,5 +405,6 @@ def generate_dispatch(laws):
                 if not returns:
                     body.append("    return")
             body += unknown
-            lines += ["", ""] + kernel(f"{kind}{suffix}", ["law", geo, rest], doc, body)
+            lines += ["", ""] + kernel(f"{kind}{suffix}", ["law", geo, rest], doc, body,
+                                       decorator="hot_inline_jit")
     return "\n".join(lines) + "\n"

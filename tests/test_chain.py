@@ -142,7 +142,7 @@ def test_chain_cli_bad_input_is_one_line(argv, name, tmp_path, capsys):
 
 
 def test_atomic_write_leaves_nothing_on_failure(tmp_path):
-    from fricstab.scenes.chain_io import atomic_write
+    from fricstab.io.files import atomic_write
 
     def broken(tmp):
         Path(tmp).write_text("half")

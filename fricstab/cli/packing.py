@@ -65,7 +65,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fricstab.scenes.chain_io import atomic_write
+from fricstab.io.files import atomic_write
 from fricstab.io.results import json_clean, write_json
 from fricstab.laws import ParameterError
 from fricstab.figures.packing import dos_figure, packing_figure, rigidity_figure

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fricstab.scenes.chain_io import atomic_write
+from fricstab.io.files import atomic_write
 from fricstab.laws import ParameterError
 
 __all__ = ["Checkpointer"]

@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fricstab.scenes.chain_io import atomic_write
+from fricstab.io.files import atomic_write
 from fricstab.laws import ParameterError
 
 __all__ = ["member_path", "load_member", "run_ensemble"]

@@ -24,7 +24,7 @@ renamed).  fricstab does not import OVITO; tests load the files with it.
 
 import numpy as np
 
-from fricstab.scenes.chain_io import atomic_write
+from fricstab.io.files import atomic_write
 from fricstab.laws import ParameterError
 
 __all__ = ["frames_to_ovito", "write_extxyz", "write_lammps_dump"]

@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from fricstab import __version__
-from fricstab.scenes.chain_io import atomic_write
+from fricstab.io.files import atomic_write
 from fricstab.laws import ParameterError
 
 __all__ = ["INDEX", "ResultDir", "add_run_options", "git_revision", "json_clean", "provenance",

@@ -21,16 +21,13 @@ import importlib
 import math
 from dataclasses import dataclass
 
+from fricstab.errors import ParameterError
 from fricstab.generated import (ALL_LAW_NAMES, CAPPED_LAW_NAMES, LAW_NAMES, PAIR_LAW_NAMES,
                                 WALL_LAW_NAMES)
 
 __all__ = ["ALL_LAW_NAMES", "CAPPED_LAW_NAMES", "LAW_NAMES", "LawInfo", "PAIR_LAW_NAMES",
            "ParameterError", "WALL_LAW_NAMES", "check_parameters", "evaluate", "get_law",
            "law_id"]
-
-
-class ParameterError(ValueError):
-    """Bad user input; the message names the parameter."""
 
 
 @dataclass(frozen=True)

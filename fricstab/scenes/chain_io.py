@@ -10,17 +10,16 @@ Results are written atomically: to a temporary file in the same directory,
 then renamed, so an interrupted run leaves either no file or a complete one.
 """
 
-import os
-import tempfile
 from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
 
+from fricstab.io.files import atomic_write
 from fricstab.scenes.chain import ChainScene, contacts
 from fricstab.io.scenes import Field, Schema, register, resolve
 
-__all__ = ["CHAIN_SCHEMA", "atomic_write", "export_state", "load_scene", "scene_parameters"]
+__all__ = ["CHAIN_SCHEMA", "export_state", "load_scene", "scene_parameters"]
 
 # Units: Charan's, length 2R = 1 (R = 0.5), m = 1; forces in kn (2R)^(3/2) units.
 CHAIN_SCHEMA = register(Schema("chain", "chain of disks on a flat substrate (Charan et al.)", (
@@ -53,22 +52,6 @@ def load_scene(path, **overrides):
     """A :class:`ChainScene` from a TOML file, then ``overrides`` (not None), validated."""
     values = scene_parameters(path, **overrides)
     return ChainScene(**{k: v for k, v in values.items() if v is not None})
-
-
-def atomic_write(path, write):
-    """Call ``write(tmp_path)``, then rename onto ``path`` (same directory)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        write(tmp)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def export_state(scene, state, jac, out_dir):

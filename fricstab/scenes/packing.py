@@ -42,7 +42,7 @@ from tqdm import tqdm
 
 from fricstab._numba import kernel_jit
 from fricstab.generated.hertz import hertz_force
-from fricstab.laws import ParameterError
+from fricstab.errors import ConvergenceError, ParameterError
 
 __all__ = ["ConvergenceError", "Packing", "find_contacts", "hertz_forces", "make_packing"]
 
@@ -60,10 +60,6 @@ N_MIN = 5
 SKIN = 0.25              # Verlet-list skin, in d
 RSA_BATCH = 4096         # candidates per draw; fixed, so a seed fixes the stream
 RSA_BUDGET = 1_000_000   # tries per disk before it is placed overlapping
-
-
-class ConvergenceError(RuntimeError):
-    """An iterative step of the protocol did not reach its tolerance."""
 
 
 # ---------------------------------------------------------------- numba kernels

@@ -1,0 +1,161 @@
+"""FIRE relaxation (Bitzek et al. 2006) on the engine's forces.
+
+The variant of Ishima et al. App. A.1 (Eqs. A5-A12): position update
+``q += dt v + dt^2/2 M^-1 F`` (A5), velocity ``v += dt/2 M^-1 (F_old + F_new)``
+(A6), then the FIRE mixing ``v -> (1 - chi) v + chi |v| F/|F|`` with norms over
+all free dof (Ishima's Eq. A7 is garbled; this is Bitzek's), and the adaptive
+step (A8-A12).  Each relaxation starts from ``v = 0``, ``dt = dt_ini``,
+``chi = chi_start``.  Histories, if the law has any, follow the increment
+rule (the relaxation is then one damped path among many).
+
+Parameters of the paper (in t0): ``dt_ini = 1e-2``, ``dt_max = 10 dt_ini``,
+``f_inc = 1.1``, ``f_dec = 0.5``, ``f_chi = 0.99``, ``chi_start = 0.1``,
+``N_min = 5``.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fricstab._numba import hot_jit
+from fricstab.engine import passes
+from fricstab.errors import NumericalError
+
+__all__ = ["FireParameters", "fire"]
+
+OK, REBUILD, BAD_FORCE, CONVERGED = 0, 1, 2, 4
+
+
+@dataclass(frozen=True)
+class FireParameters:
+    """FIRE constants (Ishima App. A.1, Bitzek et al. 2006), times in t0."""
+
+    dt_ini: float = 1e-2
+    dt_max: float = 1e-1
+    f_inc: float = 1.1
+    f_dec: float = 0.5
+    f_alpha: float = 0.99
+    alpha_start: float = 0.1
+    n_min: int = 5
+
+    def array(self):
+        return np.array([self.dt_ini, self.dt_max, self.f_inc, self.f_dec, self.f_alpha,
+                         self.alpha_start, float(self.n_min)])
+
+
+@hot_jit
+def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, idamp, family,
+          ext, lx, ly, shift, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, meas,
+          par, sv, it0, max_iter, tol, work):
+    """FIRE iterations from ``it0``; ``sv = [dt, chi, n_pos]`` carried between calls.
+
+    Returns ``(iteration, status, residual)``; REBUILD after a position update
+    that may have moved a particle half the skin (the caller rebuilds and
+    calls again: the forces at the new positions are computed first).
+    """
+    n = q.shape[0]
+    dt, chi, n_pos = sv[0], sv[1], int(sv[2])
+    f_inc, f_dec, f_alpha, a_start, n_min, dt_max = par[2], par[3], par[4], par[5], par[6], par[1]
+    lim = skin * skin
+    res = np.inf
+    for it in range(it0, max_iter + 1):
+        passes.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly,
+                            shift, 0.0, 0.0, damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
+                            new, dof, meas, work, False, False)
+        res = 0.0
+        for i in range(n):
+            if family[i] == 0:
+                for b in range(dof):
+                    if not abs(new[i, b]) < np.inf:
+                        sv[0], sv[1], sv[2] = dt, chi, n_pos
+                        return it, BAD_FORCE, res
+                    res = max(res, abs(new[i, b]))
+        if it > 0:
+            for i in range(n):
+                if family[i] == 0:
+                    for b in range(dof):  # Eq. A6
+                        v[i, b] += 0.5 * dt * (f[i, b] + new[i, b]) / gmass[i, b]
+        for i in range(n):
+            for b in range(3):
+                f[i, b] = new[i, b]
+        if res < tol:
+            sv[0], sv[1], sv[2] = dt, chi, n_pos
+            return it, CONVERGED, res
+        if it == max_iter:
+            break
+        if it > 0:
+            power = 0.0
+            vv = 0.0
+            ff = 0.0
+            for i in range(n):
+                if family[i] == 0:
+                    for b in range(dof):
+                        power += f[i, b] * v[i, b]
+                        vv += v[i, b] * v[i, b]
+                        ff += f[i, b] * f[i, b]
+            scale = chi * np.sqrt(vv / ff) if ff > 0.0 else 0.0
+            for i in range(n):
+                if family[i] == 0:
+                    for b in range(dof):
+                        v[i, b] = (1.0 - chi) * v[i, b] + scale * f[i, b]
+            if power > 0.0:  # Eqs. A8-A9
+                n_pos += 1
+                if n_pos > n_min:
+                    dt = min(dt * f_inc, dt_max)
+                    chi *= f_alpha
+            else:  # Eqs. A10-A12
+                for i in range(n):
+                    for b in range(3):
+                        v[i, b] = 0.0
+                chi = a_start
+                dt *= f_dec
+                n_pos = 0
+        far = 0.0
+        for i in range(n):  # Eq. A5
+            if family[i] == 0:
+                for b in range(dof):
+                    dq[i, b] = dt * v[i, b] + 0.5 * dt * dt * f[i, b] / gmass[i, b]
+                    q[i, b] += dq[i, b]
+                ex = q[i, 0] - ref[i, 0]
+                ey = q[i, 1] - ref[i, 1]
+                far = max(far, ex * ex + ey * ey)
+        if skin > 0.0 and 4.0 * far > lim:
+            sv[0], sv[1], sv[2] = dt, chi, n_pos
+            return it + 1, REBUILD, res
+    sv[0], sv[1], sv[2] = dt, chi, n_pos
+    return max_iter + 1, OK, res
+
+
+def fire(system, state, tol, max_iter, params=FireParameters()):
+    """Relax ``state`` in place until max |F| over the free dof < ``tol``.
+
+    Returns ``(iterations, residual)``; ``iterations > max_iter`` means not
+    converged (the caller decides whether that is an error).
+    """
+    n = system.n
+    system.project(state)
+    f = np.zeros((n, 3))
+    new = np.zeros((n, 3))
+    dq = np.zeros((n, 3))
+    work = np.zeros((8, 6))
+    state.v[:] = 0.0
+    meas = np.zeros(8)
+    par = params.array()
+    sv = np.array([par[0], par[5], 0.0])
+    it = 0
+    while True:
+        c = state.contacts
+        it, status, res = _fire(system.law_id, system._p, system._pw, system.walls, state.q,
+                                state.v, f, new, dq, system.gmass, system.radius, system.rscale,
+                                system.damping_mass, system.damping_inertia, system.family,
+                                system.external, float(system.lx), float(system.ly),
+                                float(state.shift), c.i, c.j, c.m, c.k, c.hist, c.flag, c.out,
+                                state.ref, float(system.skin), system.dof, system.damping, meas,
+                                par, sv, it, max_iter, float(tol), work)
+        if status == REBUILD:
+            system.rebuild(state)  # the histories are carried; dq is applied next
+            continue
+        if status == BAD_FORCE:
+            raise NumericalError(f"non-finite contact force in FIRE iteration {it}",
+                                 step=int(it), quantity="contact force")
+        return it, res

@@ -1,0 +1,330 @@
+"""The passes over the contacts: forces, Jacobian blocks, history updates.
+
+Every pass loops over the contacts in key order (:mod:`fricstab.engine.
+contacts`) and calls the law through the generated dispatch
+(:mod:`fricstab.generated.dispatch`, an integer switch on the law id), so one
+compiled loop serves every law.  Everything here is compiled without numba's
+reference counting (:data:`fricstab._numba.hot_jit`, a factor ~3 on the pass):
+no function allocates; scratch space comes from the caller as ``work``
+(8, 6) and ``jwork`` (6, 6) float64 arrays.
+
+Generalized coordinates ``q`` (N, 3): ``x, y`` and the law's rotational
+coordinate (``theta``, or Ishima's ``l = R theta``; unused by a frictionless
+law, whose blocks are 4 x 4).  Forces (N, 3) are the generalized forces
+conjugate to ``q``.  A wall contact's kernel works in the wall's frame: for a
+ceiling (direction -1) x and y are reversed, the rotation is not.
+
+Passes
+------
+:func:`eval_pass`
+    Forces (and blocks ``K = dF/dq`` with the increment rule) from the stored
+    histories; pure.
+:func:`increment_pass`
+    ``h += A(q) dq`` at the current configuration (Newton's history update).
+:func:`project_pass`
+    Histories onto their admissible sets at the current configuration
+    (Coulomb circle, caps; zero for a lost contact).
+:func:`advance_pass`
+    One dynamics step of every contact at the new configuration, geometry
+    computed once: ``h += A dq``, projection, forces, contact damping.
+:func:`contact_pass`
+    Each contact's own forces (for stresses, force networks, exports).
+"""
+
+import numpy as np
+
+from fricstab._numba import hot_inline_jit, hot_jit
+from fricstab.engine.contacts import separation
+from fricstab.generated.dispatch import (pair_advance, pair_eval, pair_project, pair_rate,
+                                         wall_advance, wall_eval, wall_project, wall_rate)
+
+__all__ = ["advance_pass", "contact_pass", "eval_pass", "increment_pass",
+           "project_pass"]
+
+
+
+#: A listed pair with ``r^2 > (R_i + R_j)^2 (1 + APART)`` is apart by far more than
+#: the round-off of r: the passes skip its kernel (a neighbour list with a skin
+#: holds many such pairs).  Closer pairs go to the kernel, whose accurate overlap
+#: decides.
+APART = 1e-12
+
+
+@hot_inline_jit
+def _apart(dx, dy, ri, rj):
+    s = ri + rj
+    return dx * dx + dy * dy > s * s * (1.0 + APART)
+
+
+@hot_inline_jit
+def _wall_y(q, i, radius, walls, w):
+    """Height of particle i above wall w in the wall's frame, and the direction."""
+    d = walls[w, 1]
+    return (q[i, 1] - walls[w, 0]) * d, d
+
+
+@hot_jit
+def eval_pass(law, p, pw, walls, q, radius, lx, ly, shift, ci, cj, cm, ck, hist, ext, f,
+              blocks, want_jac, dof, work, jwork):
+    """Forces into ``f`` (external ``ext`` first, then contacts in order); blocks if asked.
+
+    ``blocks`` (K, 2 dof, 2 dof): a pair's block with columns (i, j); a wall
+    contact's (dof, dof) block in the top-left corner, in global axes.
+    """
+    n = q.shape[0]
+    for a in range(n):
+        for b in range(3):
+            f[a, b] = ext[a, b]
+    nd = 2 * dof
+    fc = work[0, :nd]
+    jc = jwork[:nd, :nd]
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        if j >= 0:
+            dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
+            if _apart(dx, dy, radius[i], radius[j]):
+                if want_jac:
+                    for a in range(nd):
+                        for b in range(nd):
+                            blocks[c, a, b] = 0.0
+                continue
+            pair_eval(law, dx, dy, radius[i], radius[j], p, hist[c], fc, jc, want_jac)
+            for b in range(dof):
+                f[i, b] += fc[b]
+                f[j, b] += fc[dof + b]
+            if want_jac:
+                for a in range(nd):
+                    for b in range(nd):
+                        blocks[c, a, b] = jc[a, b]
+        else:
+            y, d = _wall_y(q, i, radius, walls, -1 - j)
+            wall_eval(law, y, radius[i], pw, hist[c], fc, jc, want_jac)
+            for b in range(dof):
+                f[i, b] += fc[b] * (d if b < 2 else 1.0)
+            if want_jac:
+                for a in range(nd):
+                    for b in range(nd):
+                        blocks[c, a, b] = 0.0
+                for a in range(dof):
+                    sa = d if a < 2 else 1.0
+                    for b in range(dof):
+                        sb = d if b < 2 else 1.0
+                        blocks[c, a, b] = sa * jc[a, b] * sb
+
+
+@hot_jit
+def increment_pass(law, p, pw, walls, q, radius, lx, ly, shift, ci, cj, cm, ck, hist, dq, dof,
+                   jwork):
+    """``h += A(q) dq`` for every contact (A at the current configuration)."""
+    nh = hist.shape[1]
+    nd = 2 * dof
+    a = jwork[:max(nh, 1), :nd]
+    for c in range(ci.shape[0]):
+        if nh == 0:
+            break
+        i = ci[c]
+        j = cj[c]
+        if j >= 0:
+            dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
+            pair_rate(law, dx, dy, radius[i], radius[j], p, a)
+            for r in range(nh):
+                s = 0.0
+                for b in range(dof):
+                    s += a[r, b] * dq[i, b] + a[r, dof + b] * dq[j, b]
+                hist[c, r] += s
+        else:
+            y, d = _wall_y(q, i, radius, walls, -1 - j)
+            a[:, :] = 0.0  # a wall form may have fewer history slots than the pair form
+            wall_rate(law, y, radius[i], pw, a)
+            for r in range(nh):
+                s = 0.0
+                for b in range(dof):
+                    s += a[r, b] * dq[i, b] * (d if b < 2 else 1.0)
+                hist[c, r] += s
+
+
+@hot_jit
+def project_pass(law, p, pw, walls, q, radius, lx, ly, shift, ci, cj, cm, ck, hist, flag):
+    """Histories onto their admissible sets at the current configuration; flags set."""
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        if j >= 0:
+            dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
+            flag[c] = pair_project(law, dx, dy, radius[i], radius[j], p, hist[c])
+        else:
+            y, d = _wall_y(q, i, radius, walls, -1 - j)
+            flag[c] = wall_project(law, y, radius[i], pw, hist[c])
+
+
+@hot_jit
+def _damping(dx, dy, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp, rolling_slides,
+             out):
+    """Dashpot forces on i (x, y) and torques on i and j (Lee & Hurley A4, A12, A19-A22).
+
+    ``gamma_n = 2 alpha_n sqrt(kn m*)``, ``gamma_t = 2 alpha_t sqrt(kt m*)``,
+    ``C_r = 2 eta_r sqrt(I_r kr)`` with ``1/m* = 1/m_i + 1/m_j`` and
+    ``1/I_r = 1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2)``; ``kn, kt, kr`` the
+    law's secant stiffnesses.  ``vi, vj`` are generalized velocities; the
+    physical angular velocity is ``v[2] / s``.  A wall is ``mj = ij = inf``.
+    """
+    r = np.sqrt(dx * dx + dy * dy)
+    nx = dx / r
+    ny = dy / r
+    tx = -ny
+    ty = nx
+    wi = vi[2] / si
+    wj = vj[2] / sj
+    vx = vi[0] - vj[0]
+    vy = vi[1] - vj[1]
+    vn = vx * nx + vy * ny
+    vt = vx * tx + vy * ty - (ri * wi + rj * wj)
+    m_eff = 1.0 / (1.0 / mi + 1.0 / mj)
+    i_eff = 1.0 / (1.0 / (ii + mi * ri * ri) + 1.0 / (ij + mj * rj * rj))
+    gn = 2.0 * damp[0] * np.sqrt(kn * m_eff)
+    gt = 2.0 * damp[1] * np.sqrt(kt * m_eff)
+    cr = 2.0 * damp[2] * np.sqrt(i_eff * kr)
+    md = 0.0 if rolling_slides else -cr * (wi - wj)
+    out[0] = -gn * vn * nx + gt * vt * ny
+    out[1] = -gn * vn * ny - gt * vt * nx
+    out[2] = ri * gt * vt + md
+    out[3] = rj * gt * vt - md
+
+
+@hot_jit
+def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly, shift,
+                 dshift, shift_rate, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, f,
+                 dof, meas, work, want_out, track_driven):
+    """One dynamics step of every contact at the new configuration ``q``.
+
+    ``dq`` (N, 3) is the displacement of the step (the image of a contact
+    with ``k != 0`` moves by ``k dshift`` more in x); ``v`` the velocities of
+    the drift (for the dashpots, ``damp = (alpha_n, alpha_t, eta_r)``, off
+    when all are 0).  Forces into ``f`` (``ext`` first); ``cout[c]`` = force on
+    i (x, y) and the elastic normal force, written only ``if want_out`` (a
+    caller reads them after its last step); ``meas[0:2]`` the summed contact
+    force on driven particles (family 2) if ``track_driven``.  Finiteness is the caller's check,
+    on the summed forces (one test per dof, not per contact).
+    """
+    n = q.shape[0]
+    for a in range(n):
+        for b in range(3):
+            f[a, b] = ext[a, b]
+    nd = 2 * dof
+    fc = work[0, :nd]
+    du = work[1, :nd]
+    aux = work[2, :4]
+    dmp = work[3, :4]
+    vj = work[4, :3]
+    zero3 = work[5, :3]
+    zero3[:] = 0.0
+    damped = damp[0] > 0.0 or damp[1] > 0.0 or damp[2] > 0.0
+    meas[0] = 0.0
+    meas[1] = 0.0
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        if j >= 0:
+            dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
+            if _apart(dx, dy, radius[i], radius[j]):
+                for b in range(hist.shape[1]):
+                    hist[c, b] = 0.0  # a contact that opened forgets its history
+                flag[c] = 0
+                if want_out:
+                    cout[c, 0] = 0.0
+                    cout[c, 1] = 0.0
+                    cout[c, 2] = 0.0
+                continue
+            for b in range(dof):
+                du[b] = dq[i, b]
+                du[dof + b] = dq[j, b]
+            du[dof] += ck[c] * dshift
+            fl = pair_advance(law, dx, dy, radius[i], radius[j], p, hist[c], du, fc, aux)
+            fx = fc[0]
+            fy = fc[1]
+            if damped and aux[3] > 0.0:
+                for b in range(3):
+                    vj[b] = v[j, b]
+                vj[0] += ck[c] * shift_rate
+                _damping(dx, dy, radius[i], radius[j], rscale[i], rscale[j], v[i], vj, aux[0],
+                         aux[1], aux[2], mdamp[i], mdamp[j], idamp[i], idamp[j], damp,
+                         (fl & 2) != 0, dmp)
+                fx += dmp[0]
+                fy += dmp[1]
+                fc[0] = fx
+                fc[1] = fy
+                fc[dof] -= dmp[0]
+                fc[dof + 1] -= dmp[1]
+                if dof == 3:
+                    fc[2] += dmp[2] / rscale[i]
+                    fc[5] += dmp[3] / rscale[j]
+            for b in range(dof):
+                f[i, b] += fc[b]
+                f[j, b] += fc[dof + b]
+            if track_driven:
+                if family[i] == 2:
+                    meas[0] += fx
+                    meas[1] += fy
+                if family[j] == 2:
+                    meas[0] -= fx
+                    meas[1] -= fy
+        else:
+            w = -1 - j
+            d = walls[w, 1]
+            y = (q[i, 1] - walls[w, 0]) * d
+            for b in range(dof):
+                du[b] = dq[i, b] * (d if b < 2 else 1.0)
+            fl = wall_advance(law, y, radius[i], pw, hist[c], du, fc, aux)
+            if damped and aux[3] > 0.0:
+                vj[0] = d * v[i, 0]
+                vj[1] = d * v[i, 1]
+                vj[2] = v[i, 2]
+                # the wall as a still partner below, in the wall's frame (infinite
+                # mass and inertia; its radius only enters multiplied by them)
+                _damping(0.0, radius[i] + abs(y), radius[i], radius[i], rscale[i],
+                         1.0, vj, zero3, aux[0], aux[1], aux[2], mdamp[i], np.inf, idamp[i],
+                         np.inf, damp, (fl & 2) != 0, dmp)
+                fc[0] += dmp[0]
+                fc[1] += dmp[1]
+                if dof == 3:
+                    fc[2] += dmp[2] / rscale[i]
+            fx = fc[0] * d
+            fy = fc[1] * d
+            f[i, 0] += fx
+            f[i, 1] += fy
+            if dof == 3:
+                f[i, 2] += fc[2]
+        flag[c] = fl
+        if want_out:
+            cout[c, 0] = fx
+            cout[c, 1] = fy
+            cout[c, 2] = aux[3]
+
+
+@hot_jit
+def contact_pass(law, p, pw, walls, q, radius, lx, ly, shift, ci, cj, cm, ck, hist, out, dof,
+                 work, jwork):
+    """Per-contact generalized forces on particle i (and j) from the stored histories.
+
+    ``out`` (K, 2 dof): a pair's forces on i then j; a wall contact's force
+    on i in global axes in the first ``dof`` entries (the rest 0).
+    """
+    nd = 2 * dof
+    fc = work[0, :nd]
+    jc = jwork[:nd, :nd]
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        for b in range(nd):
+            out[c, b] = 0.0
+        if j >= 0:
+            dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
+            pair_eval(law, dx, dy, radius[i], radius[j], p, hist[c], fc, jc, False)
+            for b in range(nd):
+                out[c, b] = fc[b]
+        else:
+            y, d = _wall_y(q, i, radius, walls, -1 - j)
+            wall_eval(law, y, radius[i], pw, hist[c], fc, jc, False)
+            for b in range(dof):
+                out[c, b] = fc[b] * (d if b < 2 else 1.0)

@@ -1,0 +1,284 @@
+"""Velocity Verlet for every scene, with drag and the controllers at fixed points.
+
+One step (free particles; :mod:`fricstab.engine.system` for the families)::
+
+    v += dt/2 (M^-1 F - nu v)             half kick, drag at the old velocity
+    driven body: v = (V_x, V_y or servo)  controller
+    q += dt v  (+ affine y, + LE offset)   drift; dq the displacement
+    [contacts rebuilt if a particle moved half the skin]
+    F = advance_pass(q, dq, v)            histories advanced by the increment rule
+                                          at the new configuration, projected,
+                                          forces (+ dashpots, + applied forces)
+    v = (v + dt/2 M^-1 F) / (1 + dt/2 nu) second half kick, drag implicit
+
+``nu = 0`` is Newtonian dynamics.  The servo (LIGGGHTS-style) sets the driven
+body's ``v_y = -g (N_target - N)`` clipped to ``|v_y| <= v_max``, with ``N``
+the summed y contact force on the driven particles of the previous step.
+``affine_y`` moves the free particles' y with the driven body (a compression
+that need not wait for the disks to travel).  The Lees-Edwards offset grows
+by ``rate dt`` per step.
+
+The loop is serial; contacts and particles are visited in a fixed order, so a
+run restarted from a saved state (:meth:`State.arrays`) at a step boundary is
+bit-identical to an uninterrupted one on the same machine.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fricstab._numba import hot_jit
+from fricstab.engine import passes
+from fricstab.errors import NumericalError
+
+__all__ = ["Controls", "Run", "run"]
+
+OK, REBUILD, BAD_FORCE, BAD_STATE, CONVERGED = 0, 1, 2, 3, 4
+
+
+@dataclass(frozen=True)
+class Controls:
+    """Controllers of a run (all off by default).
+
+    drag : float
+        Global viscous drag rate ``nu`` on free particles (1/time).
+    drive : (float, float)
+        Velocity ``(V_x, V_y)`` of the driven particles (family 2).
+    servo : (gain, target, vmax) or None
+        Replaces ``V_y`` by ``-gain (target - N)`` clipped to ``vmax``.
+    affine_y : float or None
+        With a driven body: the free particles' y follow its vertical motion
+        affinely about this reference height.
+    shear_rate : float
+        Growth rate of the Lees-Edwards offset (length/time).
+    """
+
+    drag: float = 0.0
+    drive: tuple = (0.0, 0.0)
+    servo: tuple = None
+    affine_y: float = None
+    shear_rate: float = 0.0
+
+    def array(self):
+        gain, target, vmax = self.servo if self.servo is not None else (0.0, 0.0, 0.0)
+        return np.array([self.drag, self.drive[0], self.drive[1], gain, target, vmax,
+                         0.0 if self.affine_y is None else 1.0,
+                         0.0 if self.affine_y is None else self.affine_y, self.shear_rate,
+                         0.0])
+
+
+@dataclass
+class Run:
+    """Outcome of :func:`run`: steps done, whether ``tol`` was reached, the residual,
+    recorded frames (``times``, ``q``, ``v``, ``hist`` if asked) and the measured
+    contact force on the driven body (x, y) of the last step."""
+
+    steps: int
+    converged: bool
+    residual: float
+    times: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    hist: np.ndarray
+    driven_force: np.ndarray
+
+
+@hot_jit
+def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, family, ext,
+          lx, ly, shiftv, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas,
+          dt, step0, n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every,
+          work):
+    """Steps ``step0 .. n_steps - 1``; returns (step, status, item, frame, residual).
+
+    ``shiftv = [shift, ref_shift, time]`` is updated in place.  ``mid``: the
+    drift of step ``step0`` is done (a rebuild interrupted it).
+    """
+    n = q.shape[0]
+    nu, vx_drive, vy_drive = ctrl[0], ctrl[1], ctrl[2]
+    gain, target, vmax = ctrl[3], ctrl[4], ctrl[5]
+    affine, y_ref, rate = ctrl[6] > 0.0, ctrl[7], ctrl[8]
+    half = 0.5 * dt
+    implicit = 1.0 / (1.0 + half * nu)  # the second half kick's drag, implicit
+    frame = frame0
+    residual = np.inf
+    y_top = 0.0
+    n_drv = 0
+    for i in range(n):
+        if family[i] == 2:
+            y_top += q[i, 1]
+            n_drv += 1
+    if n_drv:
+        y_top /= n_drv
+    lim = skin * skin
+    for step in range(step0, n_steps):
+        if not (mid and step == step0):
+            if record_every > 0 and step % record_every == 0 and frame < rec_q.shape[0]:
+                for i in range(n):
+                    for b in range(3):
+                        rec_q[frame, i, b] = q[i, b]
+                        rec_v[frame, i, b] = v[i, b]
+                if rec_h.shape[0]:
+                    for c in range(hist.shape[0]):
+                        for b in range(hist.shape[1]):
+                            rec_h[frame, c, b] = hist[c, b]
+                frame += 1
+            vy = vy_drive
+            if gain > 0.0:
+                vy = -gain * (target - meas[1])
+                vy = min(max(vy, -vmax), vmax)
+            meas[3] = vy
+            scale = 1.0
+            if affine and n_drv and y_top - y_ref != 0.0:
+                scale = 1.0 + vy * dt / (y_top - y_ref)
+            far = 0.0
+            for i in range(n):
+                fam = family[i]
+                if fam == 0:
+                    for b in range(dof):
+                        v[i, b] += half * (f[i, b] * ginv[i, b] - nu * v[i, b])
+                        dq[i, b] = dt * v[i, b]
+                    if affine:
+                        y_new = y_ref + (q[i, 1] + dq[i, 1] - y_ref) * scale
+                        dq[i, 1] = y_new - q[i, 1]
+                elif fam == 2:
+                    v[i, 0] = vx_drive
+                    v[i, 1] = vy
+                    v[i, 2] = 0.0
+                    dq[i, 0] = dt * vx_drive
+                    dq[i, 1] = dt * vy
+                    dq[i, 2] = 0.0
+                else:
+                    for b in range(3):
+                        dq[i, b] = 0.0
+                for b in range(3):
+                    q[i, b] += dq[i, b]
+                ex = q[i, 0] - ref[i, 0]
+                ey = q[i, 1] - ref[i, 1]
+                d2 = ex * ex + ey * ey
+                if not d2 < np.inf:
+                    return step, BAD_STATE, i, frame, residual
+                far = max(far, d2)
+            y_top += vy * dt
+            meas[2] += vx_drive * dt
+            shiftv[0] += rate * dt
+            shiftv[2] += dt
+            gap = 2.0 * np.sqrt(far) + abs(shiftv[0] - shiftv[1])
+            if skin > 0.0 and gap * gap > lim:
+                return step, REBUILD, -1, frame, residual
+        passes.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly,
+                            shiftv[0], rate * dt, rate, damp, ci, cj, cm, ck, hist, flag, cout,
+                            ext, family, f, dof, meas, work, step == n_steps - 1, n_drv > 0)
+        for i in range(n):
+            if family[i] == 0:
+                for b in range(dof):
+                    if not abs(f[i, b]) < np.inf:
+                        return step + 1, BAD_FORCE, i, frame, residual
+                    v[i, b] = (v[i, b] + half * f[i, b] * ginv[i, b]) * implicit
+        if tol > 0.0 and step % check_every == 0:
+            residual = 0.0
+            for i in range(n):
+                if family[i] == 0:
+                    for b in range(dof):
+                        residual = max(residual, abs(f[i, b]))
+            if residual < tol:
+                return step + 1, CONVERGED, -1, frame, residual
+    return n_steps, OK, -1, frame, residual
+
+
+def _culprit(system, state, particle):
+    """``" from pair (i, j)"`` naming a contact of ``particle`` whose force is not finite."""
+    c = state.contacts
+    try:
+        fc = system.contact_forces(state)
+    except (ValueError, ArithmeticError) as exc:  # the law refused the configuration
+        return f" ({exc})"
+    bad = np.flatnonzero(~np.all(np.isfinite(fc), axis=1) & ((c.i == particle) | (c.j == particle)))
+    if not len(bad):
+        return ""
+    k = bad[0]
+    return (f" from pair ({c.i[k]}, {c.j[k]})" if c.j[k] >= 0 else
+            f" from its contact with wall {-1 - c.j[k]}")
+
+
+def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, record_hist=False,
+        tol=0.0, check_every=100, forces=None, step0=0, meas=None):
+    """Advance ``state`` in place by velocity Verlet steps ``step0 .. n_steps - 1`` of ``dt``.
+
+    Parameters
+    ----------
+    system, state : System, State
+    dt : float
+        Time step.
+    n_steps : int
+        Index of the step to stop before (with ``step0``, a resumed run).
+    controls : Controls
+    record_every : int
+        Record ``q``, ``v`` (and the histories if ``record_hist``; only for a
+        contact list that never changes, e.g. the chain's) before every that
+        many steps.
+    tol : float
+        Stop early when max |F| over the free dof falls below it (checked every
+        ``check_every`` steps); 0: never.
+    forces : ndarray (N, 3), optional
+        The forces of ``state`` (computed from its projected histories if
+        omitted; a resumed run passes the forces it saved, which include the
+        dashpots of the last step).
+    meas : ndarray (8,), optional
+        Controller measurements carried between calls (driven-body force,
+        driven displacement); created if omitted and returned in the Run.
+
+    Raises
+    ------
+    NumericalError
+        A non-finite contact force or position (names the step and the
+        contact or particle).
+    """
+    if forces is None:
+        system.project(state)
+        f = system.forces(state)
+    else:
+        f = np.array(forces, float)
+    meas = np.zeros(8) if meas is None else meas
+    ctrl = controls.array()
+    every = max(record_every, 1)
+    first = -(-step0 // every) * every   # the first recorded step: a multiple of every
+    n_frames = 0 if record_every <= 0 else max(0, -(-n_steps // every) - first // every)
+    c = state.contacts
+    rec_q = np.empty((n_frames, system.n, 3))
+    rec_v = np.empty((n_frames, system.n, 3))
+    rec_h = np.empty((n_frames if record_hist else 0, c.n, c.hist.shape[1]))
+    dq = np.zeros((system.n, 3))
+    work = np.zeros((8, 6))
+    shiftv = np.array([state.shift, state.ref_shift, state.time])
+    step, mid, frame = step0, False, 0
+    residual, converged = np.inf, False
+    while step < n_steps:
+        c = state.contacts
+        if record_hist and c.n != rec_h.shape[1]:
+            raise ValueError("record_hist needs a contact list that never changes")
+        step, status, item, frame, residual = _loop(
+            system.law_id, system._p, system._pw, system.walls, state.q, state.v, f, dq,
+            system.ginv, system.radius, system.rscale, system.damping_mass,
+            system.damping_inertia, system.family, system.external, float(system.lx),
+            float(system.ly), shiftv, c.i, c.j, c.m, c.k, c.hist, c.flag, c.out, state.ref,
+            float(system.skin), system.dof, system.damping, ctrl, meas, float(dt), step,
+            n_steps, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol), check_every, work)
+        state.shift, state.ref_shift, state.time = shiftv
+        mid = False
+        if status == REBUILD:
+            system.rebuild(state)
+            shiftv[1] = state.ref_shift
+            mid = True
+        elif status == BAD_STATE:
+            raise NumericalError(f"non-finite position of particle {item} at step {step + 1}",
+                                 step=step + 1, item=int(item), quantity="position")
+        elif status == BAD_FORCE:
+            raise NumericalError(f"non-finite force on particle {item} at step {step}"
+                                 f"{_culprit(system, state, item)}", step=int(step),
+                                 item=int(item), quantity="force")
+        elif status == CONVERGED:
+            converged = True
+            break
+    times = (first + np.arange(frame) * every) * dt
+    return Run(step, converged, float(residual), times, rec_q[:frame], rec_v[:frame],
+               rec_h[:frame], meas)
