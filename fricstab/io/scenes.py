@@ -25,6 +25,17 @@ A protocol module registers its schema at import time::
     )))
 
 ``fricstab scene show NAME`` prints :func:`show` for it.
+
+Contact laws
+------------
+A scene that runs any verified law declares a :class:`LawChoice`: its paper's
+law and every law's default parameters in the scene's units.  Its files then
+take ``law = "NAME"`` and that law's parameters as top-level keys (``kn``,
+``kt``, ``mu``, ``E``, ``nu``, ``mus``, ``mur``, ``Rw``, as ``fricstab laws``
+names them).  A parameter of another law is refused with the one line saying
+what the chosen law takes; a missing one gets the scene's default (which may
+depend on other keys, e.g. ``kt = 2 kn / 7``).  :func:`validate` returns them
+as ``law``, ``law_params`` and ``wall_params`` (the wall form's extra ones).
 """
 
 import math
@@ -34,7 +45,7 @@ from pathlib import Path
 
 from fricstab.laws import ParameterError
 
-__all__ = ["Field", "Schema", "register", "get", "names", "load_toml", "validate",
+__all__ = ["Derived", "Field", "LawChoice", "add_law_options", "law_overrides", "Schema", "register", "get", "names", "load_toml", "validate",
            "resolve", "show"]
 
 TYPES = ("int", "float", "str", "bool", "floats")
@@ -159,22 +170,92 @@ class Field:
 
 
 @dataclass(frozen=True)
+class Derived:
+    """A default computed from the other validated values: ``fn(values)``, shown as ``doc``."""
+
+    fn: object
+    doc: str
+
+    def __call__(self, values):
+        return self.fn(values)
+
+
+@dataclass(frozen=True)
+class LawChoice:
+    """The contact laws a scene runs, with their defaults in the scene's units.
+
+    Parameters
+    ----------
+    default : str
+        The law of the scene's paper.
+    defaults : dict
+        ``law -> {parameter: value}``; a value may be a :class:`Derived` of the
+        validated scene values (the law's earlier parameters included), e.g.
+        ``Derived(lambda v: 2 * v["kn"] / 7, "2 kn / 7")``.
+    docs : dict
+        ``law -> one line``: why these defaults (units, what they match).
+    units : dict
+        ``parameter -> unit`` in this scene (for :func:`show`).
+    refuse : callable, optional
+        ``refuse(law, values) -> str or None``: why a combination cannot make
+        sense here (one line), checked after validation.
+    """
+
+    default: str
+    defaults: dict
+    docs: dict
+    units: dict
+    refuse: object = None
+
+    @staticmethod
+    def names():
+        from fricstab.laws import PAIR_LAW_NAMES
+        return PAIR_LAW_NAMES
+
+    @staticmethod
+    def params(law):
+        """(pair-law parameters, wall-form extra parameters) of ``law``."""
+        from fricstab.laws import get_law
+        info = get_law(law)
+        pair = tuple(info.params)
+        return pair, tuple(info.wall_form().params[len(pair):])
+
+    def all_params(self):
+        keys = []
+        for law in self.names():
+            for k in sum(self.params(law), ()):
+                if k not in keys:
+                    keys.append(k)
+        return tuple(keys)
+
+
+@dataclass(frozen=True)
 class Schema:
-    """The keys of one scene: ``name`` (also the TOML table name), a title, the fields."""
+    """The keys of one scene: ``name`` (also the TOML table name), a title, the fields,
+    and, where the scene runs any contact law, its :class:`LawChoice`."""
 
     name: str
     title: str
     fields: tuple
+    laws: LawChoice = None
 
     def field(self, key):
         for f in self.fields:
             if f.key == key:
                 return f
+        if self.laws is not None:
+            if key == "law":
+                return Field("law", "str", self.laws.default, "-", "contact law (fricstab laws)",
+                             choices=self.laws.names())
+            if key in self.laws.all_params():
+                return Field(key, "float", None, self.laws.units.get(key, "-"),
+                             "parameter of the contact law (fricstab laws)")
         return None
 
     @property
     def keys(self):
-        return tuple(f.key for f in self.fields)
+        extra = ("law",) + self.laws.all_params() if self.laws is not None else ()
+        return tuple(f.key for f in self.fields) + extra
 
 
 def register(schema):
@@ -265,7 +346,42 @@ def validate(name, mapping, *, source="scene"):
         out[key] = typed
     for f in schema.fields:
         out.setdefault(f.key, list(f.default) if isinstance(f.default, list) else f.default)
+    if schema.laws is not None:
+        _resolve_law(schema, out, labels, source)
     return out
+
+
+def _resolve_law(schema, out, labels, source):
+    """``law``, ``law_params``, ``wall_params`` of the validated ``out`` (module docstring)."""
+    from fricstab.laws import check_parameters
+    laws = schema.laws
+    law = out.pop("law", None) or laws.default
+    pair, wall = laws.params(law)
+    given = {k: out.pop(k) for k in laws.all_params() if k in out}
+    for key, value in given.items():
+        if value is not None and key not in pair + wall:
+            label = labels.get(key, f"{source}: key {key!r}")
+            raise ParameterError(f"{label}: {key} is not a parameter of law {law} (it takes "
+                                 f"{', '.join(pair + wall)}; see fricstab laws)")
+    values = dict(out)
+    values["law"] = law
+    for key in pair + wall:
+        if given.get(key) is None:
+            d = laws.defaults[law][key]
+            given[key] = float(d(values) if callable(d) else d)
+        values[key] = given[key]
+        try:
+            check_parameters(**{key: given[key]})
+        except ParameterError as exc:
+            label = labels.get(key, f"{source}: key {key!r}")
+            raise ParameterError(f"{label}: {exc}") from None
+    out["law"] = law
+    out["law_params"] = {k: given[k] for k in pair}
+    out["wall_params"] = {k: given[k] for k in wall}
+    if laws.refuse is not None:
+        why = laws.refuse(law, {**out, **out["law_params"], **out["wall_params"]})
+        if why:
+            raise ParameterError(f"law {law}: {why}")
 
 
 def resolve(name, path=None, overrides=None):
@@ -295,4 +411,56 @@ def show(name):
         lines.append(f"{f.key}  ({f.type}, default {default}, unit {f.unit}, {option})")
         lines.append(f"    allowed: {f.allowed()}")
         lines.append(f"    {f.doc}")
+    if schema.laws is not None:
+        lines += _show_laws(schema.laws)
     return "\n".join(lines)
+
+
+def _show_laws(laws):
+    from fricstab.laws import get_law
+    lines = ["", f"law  (str, default {laws.default}, option --law)",
+             f"    allowed: one of {', '.join(laws.names())}", "    the contact law; its "
+             "parameters are top-level keys (defaults below, in this scene's units)"]
+    for law in laws.names():
+        pair, wall = laws.params(law)
+        info = get_law(law)
+        docs = dict(zip(info.wall_form().params, info.wall_form().param_docs))
+        lines.append(f"  law {law}: {laws.docs.get(law, '')}")
+        for key in pair + wall:
+            d = laws.defaults[law][key]
+            shown = d.doc if isinstance(d, Derived) else f"{d:g}"
+            lines.append(f"    {key} = {shown}  [{laws.units.get(key, '-')}]  {docs.get(key, '')}")
+    return lines
+
+
+def add_law_options(parser, schema_name):
+    """``--law NAME`` and ``--param KEY=VALUE`` (repeatable) on a scene command.
+
+    :func:`law_overrides` turns them into the overrides of :func:`resolve`;
+    the values are validated with the scene file's (one line naming the key).
+    """
+    from fricstab.laws import PAIR_LAW_NAMES
+    parser.add_argument("--law", choices=PAIR_LAW_NAMES, default=None,
+                        help=f"contact law (default: the paper's; `fricstab scene show "
+                             f"{schema_name}` lists each law's parameters and defaults)")
+    parser.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                        help="a parameter of the contact law, e.g. --param kn=1000 "
+                             "(repeatable; overrides the scene file)")
+
+
+def law_overrides(ns):
+    """``{"law": ..., key: value}`` from :func:`add_law_options` options (None: not given)."""
+    out = {"law": getattr(ns, "law", None)}
+    for item in getattr(ns, "param", []) or []:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ParameterError(f"--param {_short(item)}: expected KEY=VALUE, e.g. kn=1000")
+        try:
+            value = float(text)
+        except ValueError:
+            raise ParameterError(f"--param {key}: {_short(text)} is not a number") from None
+        if not math.isfinite(value):
+            raise ParameterError(f"--param {key}: must be finite, got {_short(text)}")
+        out[key] = value
+    return out
