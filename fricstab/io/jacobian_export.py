@@ -43,12 +43,14 @@ _ROTATION = {
 }
 
 
-def write_state_jacobian(out_dir, system, state, units=None, extra=None):
+def write_state_jacobian(out_dir, system, state, units=None, extra=None, extra_arrays=None):
     """Write ``state.npz``, ``jacobian.npz``, ``dofs.json`` and ``mass.npy`` (module doc).
 
     ``units`` maps ``length``, ``mass``, ``time``, ``force`` to the scene's
     unit names (written into ``dofs.json``); ``extra`` adds keys to
-    ``dofs.json``.  Returns the forces of the free dof and the Jacobian.
+    ``dofs.json``, ``extra_arrays`` arrays to ``state.npz`` (a scene's own
+    keys, e.g. the chain's legacy ``q`` and ``t``; they may not replace the
+    common ones).  Returns the forces of the free dof and the Jacobian.
     """
     from pathlib import Path
     out = Path(out_dir)
@@ -67,6 +69,10 @@ def write_state_jacobian(out_dir, system, state, units=None, extra=None):
                   wall_of=np.where(c.j >= 0, -1, -1 - c.j), history=c.hist,
                   law=np.array(mat.law), param_names=np.array(names),
                   param_values=np.array(values, float), external=system.external)
+    clash = set(extra_arrays or {}) & set(arrays)
+    if clash:
+        raise ValueError(f"extra_arrays may not replace the common keys {sorted(clash)}")
+    arrays.update(extra_arrays or {})
     rot_name, rot_unit, rot_force = _ROTATION[mat.rotation]
     free = system.family == 0
     gm = system.gmass[free, :system.dof].ravel()
