@@ -335,9 +335,20 @@ def _log_internal(ns, exc):
 
 def main(argv=None):
     """Entry point; returns the exit status (see the module docstring)."""
+    from fricstab.io import signals
+    from fricstab.io.results import release_all
+    try:
+        with signals.interruptible():
+            return _main(argv)
+    finally:
+        release_all()
+
+
+def _main(argv):
     argv = list(sys.argv[1:] if argv is None else argv)
     ns = None
     debug = "--debug" in argv or os.environ.get("FRICSTAB_DEBUG") == "1"
+    from fricstab.io.signals import Interrupted
     try:
         ns = _parser().parse_args(argv)
         quiet = getattr(ns, "quiet", False)
@@ -353,6 +364,9 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"fricstab: interrupted{_resume_hint(ns)}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Interrupted as exc:
+        print(f"fricstab: {exc}{_resume_hint(ns)}", file=sys.stderr)
+        return exc.exit_code
     except MemoryError:
         print("fricstab: error: out of memory; reduce the system size", file=sys.stderr)
         return EXIT_NUMERICAL

@@ -29,6 +29,7 @@ import math
 import os
 import platform
 import shlex
+import shutil
 import subprocess
 import sys
 import time
@@ -38,43 +39,17 @@ from pathlib import Path
 import numpy as np
 
 from fricstab import __version__
-from fricstab.io.files import atomic_write
+from fricstab.io import rundir
+from fricstab.io.files import atomic_write, json_clean, write_json
 from fricstab.laws import ParameterError
 
 __all__ = ["INDEX", "ResultDir", "add_run_options", "git_revision", "json_clean", "provenance",
-           "update_index", "versions", "write_json"]
+           "release_all", "update_index", "versions", "write_json"]
 
 RECORD_VERSION = 1
 #: The directory's index of records (see :func:`_update_index`).
 INDEX = "result.json"
 _PACKAGES = ("numpy", "scipy", "numba", "sympy", "dask", "distributed", "matplotlib", "tqdm")
-
-
-def json_clean(obj):
-    """A JSON-safe copy: numpy scalars and arrays to Python, nan/inf to None, paths to str."""
-    if isinstance(obj, dict):
-        return {str(k): json_clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [json_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return json_clean(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(obj) else None
-    if isinstance(obj, (complex, np.complexfloating)):
-        return [json_clean(obj.real), json_clean(obj.imag)]
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
-
-
-def write_json(path, doc):
-    """Write ``doc`` (cleaned by :func:`json_clean`) atomically as indented JSON."""
-    text = json.dumps(json_clean(doc), indent=2, allow_nan=False) + "\n"
-    atomic_write(path, lambda tmp: Path(tmp).write_text(text))
 
 
 @functools.lru_cache(maxsize=1)
@@ -121,7 +96,7 @@ def provenance(protocol, parameters, seed, timings, argv=None, started=None):
 
 
 class ResultDir:
-    """The output directory of one protocol run.
+    """The output directory of one protocol run (lock, journal, manifest: :mod:`fricstab.io.rundir`).
 
     Parameters
     ----------
@@ -130,46 +105,117 @@ class ResultDir:
     name : str
         The protocol; the record is ``<name>.json``.
     force : bool
-        Overwrite an existing result.
+        Start afresh: :meth:`create` removes what the previous run of this
+        protocol wrote (its record, journal, and the files and folders they
+        list), and nothing else.
     resume : bool
-        Accept a directory holding an unfinished run (checkpoints, no record).
+        Continue an interrupted run of this protocol (same fingerprint).
     outputs : list of str, optional
-        Further names (files or folders) that count as an existing result.
+        Further names that count as an existing result (records written
+        before manifests existed list no files).
+    fingerprint : dict, optional
+        Every parameter that affects the output; stored in the journal and the
+        record, compared on ``resume``.
 
     Raises
     ------
     ParameterError
-        ``path`` is a file; or it holds a result and ``force`` is not set; or
-        ``resume`` is set and the result is already complete.
+        ``path`` is a file; or it holds a result (or an interrupted run) and
+        neither ``force`` nor ``resume`` is set; or ``resume`` is set and the
+        result is already complete, or was made with other parameters.
     """
 
-    def __init__(self, path, name, *, force=False, resume=False, outputs=()):
+    def __init__(self, path, name, *, force=False, resume=False, outputs=(), fingerprint=None):
         self.path = Path(path).expanduser()
         self.name = name
         self.record = self.path / f"{name}.json"
         self.timings = {}
+        self.force, self.resume, self.outputs = force, resume, tuple(outputs)
+        self.fingerprint = None if fingerprint is None else rundir.fingerprint(fingerprint)
+        self._names, self._folders, self._transient = set(), set(), set()
+        self._lock = None
         self._t0 = time.perf_counter()
         self._started = datetime.now(timezone.utc)
         _check_out_path(self.path)
+        journal = rundir.journal_path(self.path, name)
         if force:
             return
         if resume:
             if self.record.exists():
                 raise ParameterError(f"--resume: {self.path} already holds a complete "
                                      f"result ({self.record.name}); use --force to recompute")
+            old = _read_json(journal)
+            if old is not None and self.fingerprint is not None and \
+                    old.get("fingerprint", {}).get("sha256") != self.fingerprint["sha256"]:
+                raise ParameterError(
+                    f"--resume: the interrupted run in {self.path} was made with other "
+                    f"parameters ({rundir.difference(old.get('fingerprint'), self.fingerprint)}"
+                    "); rerun with the same parameters, or use --force to start afresh")
             return
-        found = [n for n in (self.record.name, *outputs) if (self.path / n).exists()]
+        found = [n for n in (self.record.name, *self.outputs) if (self.path / n).exists()]
+        if journal.exists():
+            found.append(f"an interrupted {name} run")
         if found:
             raise ParameterError(f"--out: {self.path} already holds results "
                                  f"({', '.join(found)}); use --force to overwrite them "
                                  "(or --resume to continue an interrupted run)")
 
     def create(self):
-        """Create the directory (and parents); returns self."""
+        """Create the directory, take its lock, clear a previous run if ``force``; returns self."""
         self.path.mkdir(parents=True, exist_ok=True)
-        if self.record.exists():   # --force: a stale record must not outlive a failed rerun
-            self.record.unlink()
+        self._lock = rundir.Lock(self.path, self.name, " ".join(sys.argv[1:])).acquire()
+        _HELD.append(self)
+        if self.force:
+            rundir.remove_run(self.path, self.name)
+            for n in self.outputs:   # results of a run from before manifests existed
+                q = self.path / n
+                if q.is_dir():
+                    shutil.rmtree(q, ignore_errors=True)
+                elif q.exists():
+                    q.unlink()
+            self.record.unlink(missing_ok=True)
+        elif self.resume:
+            old = _read_json(rundir.journal_path(self.path, self.name)) or {}
+            self._names.update(old.get("files", []))
+            self._folders.update(old.get("folders", []))
+        self._write_journal()
         return self
+
+    def _write_journal(self):
+        rundir.write_journal(self.path, self.name, self.fingerprint, self._names, self._folders)
+
+    def register(self, relname, folder=False, transient=False):
+        """Record that the run writes ``relname`` (a file, or a folder); returns its path.
+
+        A ``transient`` folder (checkpoints) is removed when the run finishes.
+        """
+        rel = str(Path(relname))
+        target = self._folders if folder else self._names
+        if rel not in target:
+            target.add(rel)
+            if transient:
+                self._transient.add(rel)
+            if self._lock is not None:
+                self._write_journal()
+        return self.path / rel
+
+    def checkpoints(self):
+        """The checkpoint folder (transient: removed when the run completes)."""
+        return self.register("checkpoints", folder=True, transient=True)
+
+    def close(self):
+        """Release the lock (the journal stays: the run is resumable or removable)."""
+        if self._lock is not None:
+            self._lock.release()
+            self._lock = None
+        if self in _HELD:
+            _HELD.remove(self)
+
+    def __enter__(self):
+        return self.create()
+
+    def __exit__(self, *exc):
+        self.close()
 
     @contextlib.contextmanager
     def stage(self, name):
@@ -183,8 +229,8 @@ class ResultDir:
             t["cpu_s"] = round(t["cpu_s"] + time.process_time() - c0, 4)
 
     def file(self, relname):
-        """Path of ``relname`` inside the directory; parent folders are created."""
-        p = self.path / relname
+        """Path of ``relname`` inside the directory (registered; parent folders made)."""
+        p = self.register(relname)
         p.parent.mkdir(parents=True, exist_ok=True)
         return p
 
@@ -212,13 +258,40 @@ class ResultDir:
         atomic_write(self.file(relname), write)
 
     def finish(self, numbers, *, parameters, seed=None, argv=None):
-        """Write the record ``<name>.json`` last: ``numbers`` plus provenance; returns it."""
+        """Write the record ``<name>.json`` last: numbers, provenance, fingerprint, manifest.
+
+        Transient folders (checkpoints) are removed first; the journal after
+        the record; the lock is released.  Returns the record.
+        """
+        for rel in self._transient:
+            shutil.rmtree(self.path / rel, ignore_errors=True)
         doc = dict(numbers)
         doc.update(provenance(self.name, parameters, seed, self.timings, argv, self._started))
         doc["seconds"] = round(time.perf_counter() - self._t0, 3)
+        doc["fingerprint"] = self.fingerprint or rundir.fingerprint(parameters)
+        doc["files"] = rundir.manifest(self.path, (self._names | self._folders) - self._transient)
         write_json(self.record, doc)
         update_index(self.path, self.name, doc)
+        rundir.journal_path(self.path, self.name).unlink(missing_ok=True)
+        self.close()
         return doc
+
+
+#: ResultDirs of this process whose lock is held (released by :func:`release_all`).
+_HELD = []
+
+
+def release_all():
+    """Release every lock this process holds (the command line calls it on any exit)."""
+    for rd in list(_HELD):
+        rd.close()
+
+
+def _read_json(path):
+    try:
+        return json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return None
 
 
 def update_index(path, name, doc):

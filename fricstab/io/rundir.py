@@ -1,0 +1,262 @@
+"""A result directory owns its run: lock, journal, manifest, fingerprint.
+
+Every protocol run writes into its ``--out`` directory through
+:class:`fricstab.io.results.ResultDir`, which keeps, besides the files:
+
+``.fricstab.lock``
+    who writes now (pid, host, process start time, protocol, command).  A
+    second writer is refused with one line naming the holder; a lock whose
+    process is gone (same host) is stale and taken over.
+``.<protocol>.journal.json``
+    the run in progress: its fingerprint and every file and folder it has
+    written so far, rewritten atomically before each new one.  An interrupted
+    run leaves it behind: ``--resume`` continues it (same fingerprint only),
+    ``--force`` removes exactly what it lists.
+``<protocol>.json``
+    the record, written last and atomically: the numbers, the provenance, the
+    fingerprint and the *manifest*: every file of the run with its size and
+    SHA-256.  Readers (:func:`verify`) refuse a directory whose files do not
+    match it, naming the file.
+
+The fingerprint is the SHA-256 of the canonical JSON of every parameter that
+affects the output (the validated scene, the protocol's options, the seed).
+"""
+
+import hashlib
+import json
+import os
+import platform
+import shutil
+import time
+from pathlib import Path
+
+from fricstab.errors import ParameterError
+from fricstab.io.files import json_clean, temporaries, write_json
+
+__all__ = ["LOCK", "Lock", "fingerprint", "journal_path", "manifest", "remove_run", "verify"]
+
+LOCK = ".fricstab.lock"
+_HASH_CHUNK = 1 << 20
+
+
+def fingerprint(parameters):
+    """``{"sha256": ..., "parameters": ...}`` of the canonical JSON of ``parameters``."""
+    clean = json_clean(parameters)
+    text = json.dumps(clean, sort_keys=True, allow_nan=False, separators=(",", ":"))
+    return {"sha256": hashlib.sha256(text.encode()).hexdigest(), "parameters": clean}
+
+
+def difference(old, new):
+    """The first differing parameter of two fingerprints, in words."""
+    a, b = (old or {}).get("parameters"), (new or {}).get("parameters")
+    if isinstance(a, dict) and isinstance(b, dict):
+        for key in sorted(set(a) | set(b)):
+            if a.get(key) != b.get(key):
+                return f"{key}: {a.get(key)!r} there, {b.get(key)!r} now"
+    return "other parameters"
+
+
+def journal_path(folder, protocol):
+    return Path(folder) / f".{protocol}.journal.json"
+
+
+def _start_time(pid):
+    """The process's start time in clock ticks (Linux /proc), or None."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+        return int(stat.rsplit(")", 1)[1].split()[19])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def _alive(pid, start):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    if start is not None:
+        now = _start_time(pid)
+        return now is None or now == start   # another process took the pid: stale
+    return True
+
+
+class Lock:
+    """The directory's writer lock (module docstring); a context manager."""
+
+    def __init__(self, folder, protocol, command=""):
+        self.path = Path(folder) / LOCK
+        self.doc = {"pid": os.getpid(), "host": platform.node(),
+                    "start": _start_time(os.getpid()), "protocol": protocol,
+                    "command": command, "since": time.strftime("%Y-%m-%dT%H:%M:%S")}
+        self.held = False
+
+    def acquire(self):
+        for _ in range(3):
+            try:
+                fd = os.open(self.path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                holder = self._holder()
+                if holder is None or self._stale(holder):
+                    self.path.unlink(missing_ok=True)
+                    continue
+                raise ParameterError(
+                    f"--out: {self.path.parent} is being written by another fricstab run "
+                    f"(pid {holder.get('pid')} on {holder.get('host')}, "
+                    f"`{holder.get('command') or holder.get('protocol')}`, since "
+                    f"{holder.get('since')}); wait for it to finish or stop it"
+                    + ("" if holder.get("host") == platform.node() else
+                       f"; if that run is gone, remove {self.path}"))
+            with os.fdopen(fd, "w") as fh:
+                json.dump(self.doc, fh)
+            self.held = True
+            return self
+        raise ParameterError(f"--out: cannot take the lock {self.path}")
+
+    def _holder(self):
+        try:
+            return json.loads(self.path.read_text())
+        except (OSError, ValueError):
+            return None   # written by a killed writer mid-way: not a live one
+
+    def _stale(self, holder):
+        if holder.get("host") != platform.node():
+            return False
+        pid = holder.get("pid")
+        return not isinstance(pid, int) or not _alive(pid, holder.get("start"))
+
+    def release(self):
+        if self.held:
+            try:
+                if self._holder() == self.doc:
+                    self.path.unlink(missing_ok=True)
+            finally:
+                self.held = False
+
+    def __enter__(self):
+        return self.acquire()
+
+    def __exit__(self, *exc):
+        self.release()
+
+
+def sha256_file(path):
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(_HASH_CHUNK), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _expand(folder, names):
+    """Every file under the registered names (folders walked), relative, sorted."""
+    folder = Path(folder)
+    out = set()
+    for name in names:
+        p = folder / name
+        if p.is_dir():
+            out.update(str(q.relative_to(folder)) for q in p.rglob("*")
+                       if q.is_file() and not q.name.endswith(".tmp"))
+        elif p.is_file():
+            out.add(str(Path(name)))
+    return sorted(out)
+
+
+def manifest(folder, names):
+    """``{relative path: {"bytes", "sha256"}}`` of every file under ``names``."""
+    folder = Path(folder)
+    return {rel: {"bytes": (folder / rel).stat().st_size, "sha256": sha256_file(folder / rel)}
+            for rel in _expand(folder, names)}
+
+
+def verify(folder, protocol, files=None):
+    """The record of ``protocol`` in ``folder``, after checking its manifest.
+
+    ``files`` restricts the check to those relative paths (a reader that needs
+    only some).  Raises :class:`ParameterError` naming the missing or changed
+    file, or saying that the run is incomplete.
+    """
+    folder = Path(folder)
+    record_path = folder / f"{protocol}.json"
+    try:
+        record = json.loads(record_path.read_text())
+    except FileNotFoundError:
+        extra = (" (an interrupted run: rerun with --resume or --force)"
+                 if journal_path(folder, protocol).exists() else "")
+        raise ParameterError(f"{folder} holds no complete {protocol} result "
+                             f"({record_path.name} missing){extra}") from None
+    except (OSError, ValueError) as exc:
+        raise ParameterError(f"{record_path} is not a readable record: {exc}") from None
+    listed = record.get("files")
+    if not isinstance(listed, dict):
+        return record   # a record written before manifests existed: nothing to check
+    for rel in (files if files is not None else sorted(listed)):
+        if rel not in listed:
+            raise ParameterError(f"{folder / rel} is not part of the {protocol} result")
+        p = folder / rel
+        want = listed[rel]
+        if not p.is_file():
+            raise ParameterError(f"{p} is missing: the {protocol} result in {folder} is "
+                                 "incomplete; rerun with --force")
+        size = p.stat().st_size
+        if size != want.get("bytes") or sha256_file(p) != want.get("sha256"):
+            raise ParameterError(f"{p} does not match the {protocol} record (changed or "
+                                 "damaged after the run); rerun with --force")
+    return record
+
+
+def remove_run(folder, protocol):
+    """Remove what the last run of ``protocol`` wrote (record, journal, their files); nothing else.
+
+    Returns the removed relative paths.
+    """
+    folder = Path(folder)
+    names = set()
+    for path in (folder / f"{protocol}.json", journal_path(folder, protocol)):
+        try:
+            doc = json.loads(path.read_text())
+        except (OSError, ValueError):
+            continue
+        listed = doc.get("files")
+        if isinstance(listed, dict):
+            names.update(listed)
+        elif isinstance(listed, list):
+            names.update(str(x) for x in listed)
+        names.update(str(x) for x in doc.get("folders", []))
+    removed = []
+    for name in sorted(names, key=len, reverse=True):
+        p = folder / name
+        if not p.resolve().is_relative_to(folder.resolve()):
+            continue   # a hand-edited list must not reach outside the directory
+        if p.is_dir():
+            shutil.rmtree(p, ignore_errors=True)
+            removed.append(name)
+        elif p.exists():
+            p.unlink()
+            removed.append(name)
+        for tmp in temporaries(p.parent, p.name):
+            tmp.unlink(missing_ok=True)
+        _prune_empty(p.parent, folder)
+    for path in (folder / f"{protocol}.json", journal_path(folder, protocol)):
+        if path.exists():
+            path.unlink()
+            removed.append(path.name)
+    return removed
+
+
+def _prune_empty(path, top):
+    """Remove ``path`` and its parents up to ``top`` (excluded) while they are empty."""
+    path, top = Path(path).resolve(), Path(top).resolve()
+    while path != top and path.is_relative_to(top):
+        try:
+            path.rmdir()
+        except OSError:
+            return
+        path = path.parent
+
+
+def write_journal(folder, protocol, fp, names, folders):
+    write_json(journal_path(folder, protocol),
+               {"protocol": protocol, "fingerprint": fp, "files": sorted(names),
+                "folders": sorted(folders), "pid": os.getpid()})
