@@ -32,7 +32,7 @@ import scipy.sparse as sps
 from fricstab.engine.jacobian import dof_labels, jacobian
 from fricstab.io.files import atomic_write
 
-__all__ = ["FILES", "read_state", "write_state_jacobian"]
+__all__ = ["FILES", "read_state", "system_from_state", "write_state_jacobian"]
 
 FILES = ("state.npz", "jacobian.npz", "dofs.json", "mass.npy")
 
@@ -125,3 +125,35 @@ def read_state(path):
     d["law"] = str(d["law"])
     d["param_names"] = [str(x) for x in d["param_names"]]
     return d
+
+
+def system_from_state(path):
+    """The System and State written in ``state.npz``: recompute anything from the file alone.
+
+    The contacts (with their images and histories) are those of the file, in
+    its order, so ``fricstab.engine.jacobian(*system_from_state(p))`` gives the
+    saved ``jacobian.npz`` to the bit.
+    """
+    from fricstab.engine import Material, System
+    from fricstab.engine.contacts import Contacts, contact_keys
+    from fricstab.laws import get_law
+    d = read_state(path)
+    info = get_law(d["law"])
+    n_pair = len(info.params)
+    names, values = d["param_names"], [float(v) for v in d["param_values"]]
+    material = Material(d["law"], dict(zip(names[:n_pair], values[:n_pair])),
+                        dict(zip(names[n_pair:], values[n_pair:])))
+    lx, ly = (float(v) for v in d["box"])
+    system = System(material, d["radius"], d["mass"], d["inertia"], family=d["family"],
+                    lx=lx, ly=ly, walls=[tuple(w) for w in d["walls"]], neighbours=False,
+                    external=d["external"])
+    state = system.state(d["pos"], d["theta"], shift=float(d["le_offset"]))
+    ij, img = d["contacts"], d["images"]
+    j = np.where(ij[:, 1] >= 0, ij[:, 1], -1 - d["wall_of"])
+    hist = np.array(d["history"], float).reshape(len(ij), -1)
+    state.contacts = Contacts(ij[:, 0].astype(np.int64), j.astype(np.int64),
+                              img[:, 0].astype(np.int64), img[:, 1].astype(np.int64), hist,
+                              np.zeros(len(ij), np.int8), np.zeros((len(ij), 3)))
+    state.keys = contact_keys(state.contacts.i, state.contacts.j, state.contacts.m,
+                              state.contacts.k, system.n, len(system.walls))
+    return system, state
