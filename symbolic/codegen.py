@@ -84,7 +84,7 @@ __all__ = ["LEGACY_ASSEMBLE", "clear_numba_cache", "generate_capped_law", "gener
 
 OUT_DIR = Path(__file__).resolve().parent.parent / "fricstab" / "generated"
 COMMAND = "python -m symbolic.codegen"
-TEMPLATE_VERSION = "8"
+TEMPLATE_VERSION = "9"
 CAPPED_TEMPLATE_VERSION = "5"
 
 #: Laws that keep their generated ``<law>_assemble`` loop: still imported by

@@ -34,7 +34,7 @@ __all__ = ["DISPATCH_TEMPLATE_VERSION", "ON_CIRCLE", "UNIFORM", "capped_advance"
            "scalar_call", "uniform_doc", "unpack", "width_lines"]
 
 COMMAND = "python -m symbolic.codegen"
-DISPATCH_TEMPLATE_VERSION = "4"
+DISPATCH_TEMPLATE_VERSION = "5"
 #: Suffixes of the uniform kernels.
 UNIFORM = ("_eval", "_rate", "_project", "_advance")
 
@@ -133,13 +133,19 @@ def eval_kernel(law):
 def family_rate(law):
     nh, nq = law.increment.shape
     name, geo = law.name, geo_args(law)
-    doc = "Increment rule at this geometry: dh = a @ du; zeros without contact."
+    doc = ("Increment rule at this geometry: dh = a @ du.  Purely geometric (the normal, the "
+           "radii), so written in or out of contact: a contact that closes during a step counts "
+           "the whole step, and the projection zeroes the history of one that is open; zeros "
+           "only for coincident centres (no normal).")
     if not nh:
         return kernel(f"{name}_rate", geo + ["p", "a"],
                        "Increment rule: no history (a has no rows), nothing to write.", ["return"])
     inc = ", ".join(a for a in geo)
-    body = overlap_lines(law) + ["if delta <= 0.0:", *["    " + z for z in zero_mat("a", nh, nq)],
-                                  "    return", f"{name}_increment({inc}, a)"]
+    if law.kind == "pair":
+        body = ["if dx == 0.0 and dy == 0.0:", *["    " + z for z in zero_mat("a", nh, nq)],
+                "    return", f"{name}_increment({inc}, a)"]
+    else:
+        body = [f"{name}_increment({inc}, a)"]
     return kernel(f"{name}_rate", geo + ["p", "a"], doc, body)
 
 
