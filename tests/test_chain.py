@@ -290,3 +290,16 @@ def test_chain_cli_unknown_toml_key_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "friction_coefficient" in err
     assert not (tmp_path / "o" / "ramp.json").exists()
+
+
+def test_breach_is_the_cap_of_the_law_or_leaving_the_wall():
+    """At the cap (to rtol), or off the wall (t* <= 0: the pre-engine |t| >= t*); never
+    for a law without a cap.  Exact: the law's own projection decides."""
+    from fricstab.analysis.observables import at_coulomb_limit
+    scene = ChainScene(n=3)
+    d = 1e-3
+    tstar = 10 * 3.5 * d                       # mu kn / kt delta, kt = 2 kn / 7
+    y = np.array([[0.5 - d, 0.5 - d, 0.5 + 1e-6]])
+    hist = np.array([[[0.999 * tstar], [tstar], [0.0]]])
+    np.testing.assert_array_equal(at_coulomb_limit(scene, y, hist), [[False, True, True]])
+    assert not at_coulomb_limit(ChainScene(n=3, law="ishima"), y, hist).any()
