@@ -1,15 +1,19 @@
-"""The chain scene of Charan et al.: equilibrium, Jacobian, export, bad input."""
+"""The chain scene of Charan et al. on the engine: equilibrium, laws, export, bad input."""
 
+import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from fricstab.scenes.chain import (ChainScene, ChainState, advance_history, forces,
-                            forces_and_jacobian, initial_state, mass_vector)
-from fricstab.scenes.chain_io import export_state, load_scene
-from fricstab.laws import ParameterError
-from fricstab.protocols.quasistatic import relax_newton
+from fricstab.laws import PAIR_LAW_NAMES, ParameterError
+from fricstab.protocols.ramp import ramped_equilibrium, relax_newton
+from fricstab.scenes.chain import (LEE_HURLEY_E, ChainScene, chain_system, forces_and_jacobian,
+                                   initial_state, legacy_order, mass_vector, pair_history,
+                                   rest_overlap, time_unit, wall_history)
+from fricstab.scenes.chain_io import load_scene
+
+from tests.system_proof import central_jacobian
 
 
 @pytest.fixture(scope="module")
@@ -25,96 +29,144 @@ def test_wall_overlap_is_hertz(rest):
     # Newton converged to max|F| < 1e-12 against F_y = 0.1 and a wall
     # stiffness 1.5 kn delta^{1/2} ~ 110: delta is exact to ~1e-14 / delta.
     delta = scene.radius - state.q[:, 1]
-    assert np.allclose(delta, (scene.fy / scene.kn) ** (2 / 3), rtol=1e-10, atol=0)
+    assert np.allclose(delta, (scene.fy / 2000.0) ** (2 / 3), rtol=1e-10, atol=0)
+
+
+@pytest.mark.parametrize("law", PAIR_LAW_NAMES)
+def test_every_law_rests_at_the_papers_height(law):
+    """Every law's defaults give the rest overlap of Hertz with kn = 2000 under F_y = 0.1.
+
+    Hertz laws: by construction; lee_hurley: E* = 215.9759... solves the
+    cylinder law at that overlap (brentq to 4 eps relative); Newton to
+    max|F| < 1e-12 against a wall stiffness >= 80 leaves 1e-14 in y.
+    """
+    scene = ChainScene(law=law)
+    hertz = (0.1 / 2000.0) ** (2 / 3)
+    assert abs(rest_overlap(scene) / hertz - 1) < 1e-12
+    res = relax_newton(scene, initial_state(scene))
+    assert res.converged
+    delta = scene.radius - res.state.q[:, 1]
+    assert np.allclose(delta, hertz, rtol=1e-9, atol=0)
+    # Charan's time unit uses the reference stiffness: kn = 2000 for every law.
+    assert abs(time_unit(scene) / np.sqrt(1.0 / 2000.0) - 1) < 1e-12
 
 
 def test_transverse_frequency_in_paper_units(rest):
     scene, state = rest
     f, jac = forces_and_jacobian(scene, state)
     lam = np.linalg.eigvals(-jac / mass_vector(scene)[:, None])
-    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)  # Charan's time unit
-    omega = np.sqrt(lam.real.max()) * unit
+    omega = np.sqrt(lam.real.max()) * time_unit(scene)
     # Closed form: sqrt(1.5 kn (fy/kn)^(1/3) / m) * unit = 0.23508; paper 0.235.
     assert abs(omega - 0.235) < 1e-3
 
 
+def test_ring_is_static_pairs_with_the_wrap_canonicalized():
+    scene = ChainScene(n=4)
+    c = initial_state(scene).contacts
+    pairs = {(int(i), int(j), int(m)) for i, j, m in zip(c.i, c.j, c.m) if j >= 0}
+    assert pairs == {(0, 1, 0), (1, 2, 0), (2, 3, 0), (0, 3, -1)}
+    assert sorted(c.i[c.j < 0]) == [0, 1, 2, 3]
+    rows, sign = legacy_order(initial_state(scene))
+    assert sorted(rows) == list(range(8)) and sign[3] == -1 and sign.sum() == 6
+
+
+def test_two_disks_have_two_distinct_contacts():
+    scene = ChainScene(n=2, fx=0.01)
+    state = ramped_equilibrium(scene, 0.01, 5e-3)
+    f, jac = forces_and_jacobian(scene, state)
+    assert np.abs(f).max() < 1e-12
+    assert (state.contacts.j >= 0).sum() == 2
+
+
+def test_pair_history_keeps_the_pre_engine_orientation():
+    """Ring pair (N-1, 0): displacement of N-1 relative to 0, the negative of the engine's.
+
+    Moving disk 0 by dx along the tangent of the wrapping pair changes the
+    engine's (0, N-1) history by +A dq and the legacy one by -A dq (exact:
+    a sum of one increment).
+    """
+    scene = ChainScene(n=3, fx=-0.01)   # disk 0 pushed back: the wrapping pair closes
+    state = ramped_equilibrium(scene, -0.01, 5e-3)
+    before = pair_history(scene, state)[2].copy()
+    dq = np.zeros((3, 3))
+    dq[0, 1] = 1e-9                     # normal is along x: y is tangential
+    chain_system(scene).advance_history(state, dq)
+    after = pair_history(scene, state)[2]
+    assert after[1] - before[1] == pytest.approx(-1e-9, rel=1e-6)
+
+
 def _smallest_overlap(scene, state):
-    q = state.q
-    dx = q[:, 0] - np.roll(q[:, 0], -1)
-    dx[-1] -= scene.period
-    pair = 2 * scene.radius - np.hypot(dx, q[:, 1] - np.roll(q[:, 1], -1))
-    overlaps = np.concatenate([pair, scene.radius - q[:, 1]])
-    return overlaps[overlaps > 0].min()
+    q, c = state.q, state.contacts
+    pair = c.j >= 0
+    jj = np.where(pair, c.j, 0)
+    dx = q[c.i, 0] - q[jj, 0] - c.m * scene.period
+    gap = np.where(pair, np.hypot(dx, q[c.i, 1] - q[jj, 1]) - 2 * scene.radius,
+                   q[c.i, 1] - scene.radius)
+    return (-gap[gap < 0]).min()
 
 
-def _fd_jacobian(scene, state, h):
-    """Central differences of the forces, history advanced by the increment rule."""
-    n = scene.n
-    jac = np.empty((3 * n, 3 * n))
-    for k in range(3 * n):
-        cols = []
-        for sign in (1, -1):
-            s = state.copy()
-            dq = np.zeros((n, 3))
-            dq.flat[k] = sign * h
-            advance_history(scene, s, dq)
-            s.q += dq
-            cols.append(forces(scene, s).ravel())
-        jac[:, k] = (cols[0] - cols[1]) / (2 * h)
-    return jac
+def test_exported_files_and_legacy_keys(rest, tmp_path):
+    """Common files through write_state_jacobian, plus jacobian.npy and q, t.
 
-
-def test_exported_jacobian_matches_finite_differences(rest, tmp_path):
+    The exported dense Jacobian equals the engine's assembly of the reloaded
+    state exactly, and central differences of the forces with the history
+    advanced by the increment rule within 1e-6 (h = 1e-3 of the smallest
+    overlap: truncation (h/delta)^2/24 ~ 4e-8; round-off eps |F|/(h max|K|)
+    ~ 3e-12).
+    """
+    from fricstab.io.jacobian_export import read_state
+    from fricstab.scenes.chain_io import export_state
     scene, state = rest
     scene = scene.with_fx(0.03)
     loaded = relax_newton(scene, state).state
-    f, jac = forces_and_jacobian(scene, loaded)
-    export_state(scene, loaded, jac, tmp_path)
-    exported = np.load(tmp_path / "jacobian.npy")
-    n = scene.n
-    with np.load(tmp_path / "state.npz") as npz:
-        data = {k: npz[k] for k in ("q", "t", "contacts")}
-    again = ChainState(data["q"].copy(), data["t"][:n].copy(), data["t"][n:, 0].copy())
-    # Central differences with h = 1e-3 of the smallest overlap (here ~3e-6):
-    # truncation (h/delta)^2 / 24 ~ 4e-8 of the softest contact's entries;
-    # round-off eps |F| / (h max|J|) ~ 1e-16 * 0.1 / (3e-9 * 1e3) ~ 3e-12.
-    fd = _fd_jacobian(scene, again, 1e-3 * _smallest_overlap(scene, again))
-    err = np.abs(exported - fd).max() / np.abs(exported).max()
-    assert err < 1e-6
-    assert np.array_equal(data["contacts"][:n, 1], (np.arange(n) + 1) % n)
-    assert np.all(data["contacts"][n:, 1] == -1)
+    export_state(scene, loaded, tmp_path)
+    dense = np.load(tmp_path / "jacobian.npy")
+    d = read_state(tmp_path / "state.npz")
+    assert d["law"] == "charan" and d["q"].shape == (10, 3) and d["t"].shape == (20, 2)
+    np.testing.assert_array_equal(d["q"][:, :2], loaded.q[:, :2])
+    np.testing.assert_array_equal(d["t"][:10], pair_history(scene, loaded))
+    np.testing.assert_array_equal(d["t"][10:, 0], wall_history(scene, loaded)[:, 0])
+    again = chain_system(scene).state(d["pos"], d["theta"])
+    rows = np.searchsorted(again.keys, loaded.keys)
+    again.contacts.hist[rows] = d["history"]
+    np.testing.assert_array_equal(forces_and_jacobian(scene, again)[1], dense)
+    fd = central_jacobian(chain_system(scene), again, 1e-3 * _smallest_overlap(scene, again))
+    assert np.abs(dense - fd).max() / np.abs(dense).max() < 1e-6
+    doc = json.loads((tmp_path / "dofs.json").read_text())
+    assert doc["law"] == "charan" and doc["n_dof"] == 30 and "legacy" in doc
 
 
 @pytest.mark.parametrize("kwargs, name", [
-    ({"n": 1}, "n"), ({"fy": 0.0}, "fy"), ({"fy": -1.0}, "fy"), ({"kn": -2.0}, "kn"),
-    ({"mu": 0.0}, "mu"), ({"radius": float("nan")}, "radius"),
+    ({"n": 1}, "n"), ({"fy": 0.0}, "fy"), ({"fy": -1.0}, "fy"),
+    ({"params": {"kn": -2.0}}, "kn"), ({"params": {"mu": 0.0}}, "mu"),
+    ({"radius": float("nan")}, "radius"), ({"law": "foam"}, "law"),
+    ({"law": "ishima", "params": {"mu": 1.0}}, "mu"), ({"law": "hertz", "fx": 0.01}, "frictionless"),
+    ({"law": "lee_hurley", "fy": 1e3}, "F_y"),
 ])
 def test_bad_scene_names_the_parameter(kwargs, name):
     with pytest.raises(ParameterError, match=name):
         ChainScene(**kwargs)
 
 
-def test_scene_file_unknown_key(tmp_path):
+def test_scene_file_unknown_key_and_laws(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text("[chain]\nn = 6\nfriction = 3\n")
     with pytest.raises(ParameterError, match="unknown key 'friction'"):
         load_scene(path)
     path.write_text("n = 6\nmu = 3.0\n")
     scene = load_scene(path, fy=0.2)
-    assert (scene.n, scene.mu, scene.fy) == (6, 3.0, 0.2)
+    assert (scene.n, scene.params["mu"], scene.fy) == (6, 3.0, 0.2)
+    assert scene.params["kt"] == 2 * 2000.0 / 7
+    path.write_text('law = "lee_hurley"\nmus = 2.0\n')
+    scene = load_scene(path, radius=0.25)
+    assert scene.params == {"E": LEE_HURLEY_E, "nu": 0.2, "mus": 2.0, "mur": 0.0}
+    assert scene.wall_params == {"Rw": 0.25}
+    path.write_text('law = "ishima"\nmu = 3.0\n')
+    with pytest.raises(ParameterError, match="mu is not a parameter of law ishima"):
+        load_scene(path)
 
 
-def test_two_disks_have_two_distinct_contacts():
-    scene = ChainScene(n=2, fx=0.01)
-    res = relax_newton(scene, initial_state(scene))
-    assert res.converged
-    f, jac = forces_and_jacobian(scene, res.state)
-    assert np.abs(f).max() < 1e-12
-
-
-def test_chain_cli_ramp_and_jacobian(tmp_path, capsys):
-    import json
-
+def test_chain_cli_ramp_and_jacobian(tmp_path):
     from fricstab.cli import main
     out = tmp_path / "ramp"
     assert main(["chain", "ramp", "--fx-max", "0.02", "--step", "2e-3", "--out", str(out),
@@ -130,15 +182,50 @@ def test_chain_cli_ramp_and_jacobian(tmp_path, capsys):
     assert np.load(jout / "jacobian.npy").shape == (30, 30)
 
 
+@pytest.mark.parametrize("law, dof", [("hertz", 2), ("charan", 3), ("ishima", 3),
+                                      ("lee_hurley", 3)])
+def test_chain_cli_jacobian_every_law(law, dof, tmp_path):
+    """``fricstab chain jacobian --law NAME --out DIR`` with the law's defaults."""
+    import scipy.sparse as sps
+
+    from fricstab.cli import main
+    from fricstab.io.jacobian_export import FILES
+    out = tmp_path / law
+    assert main(["chain", "jacobian", "--law", law, "--n", "4", "--out", str(out),
+                 "--quiet"]) == 0
+    for name in (*FILES, "jacobian.npy", "jacobian.json"):
+        assert (out / name).is_file(), name
+    dense = np.load(out / "jacobian.npy")
+    assert dense.shape == (4 * dof, 4 * dof)
+    np.testing.assert_array_equal(sps.load_npz(out / "jacobian.npz").toarray(), dense)
+    with np.load(out / "state.npz") as z:
+        assert str(z["law"]) == law and z["q"].shape == (4, 3) and z["t"].shape == (8, 2)
+
+
 @pytest.mark.parametrize("argv, name", [
     (["--n", "1"], "n"), (["--fy", "0"], "fy"), (["--fy", "-2"], "fy"),
     (["--step", "0"], "--step"), (["--scene", "/nonexistent.toml"], "scene file"),
+    (["--law", "foam"], "--law"), (["--law", "ishima", "--param", "mu=3"], "mu"),
+    (["--param", "kn=-1"], "kn"), (["--param", "E=1"], "E"), (["--param", "kn"], "KEY=VALUE"),
+    (["--law", "hertz"], "frictionless"),
 ])
-def test_chain_cli_bad_input_is_one_line(argv, name, tmp_path, capsys):
+@pytest.mark.parametrize("command", ["ramp", "jacobian"])
+def test_chain_cli_bad_input_is_one_line(command, argv, name, tmp_path, capsys):
     from fricstab.cli import main
-    assert main(["chain", "ramp", *argv, "--out", str(tmp_path), "--no-progress"]) == 2
+    out = tmp_path / "o"
+    if command == "jacobian" and name == "frictionless":
+        argv = argv + ["--fx", "0.01"]
+    assert main(["chain", command, *argv, "--out", str(out), "--no-progress"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and name in err and "Traceback" not in err
+    assert err.startswith("fricstab: error:") and err.count("\n") == 1
+    assert name in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_chain_cli_waves_refuses_a_law_without_a_cap(tmp_path, capsys):
+    from fricstab.cli import main
+    assert main(["chain", "waves", "--law", "ishima", "--out", str(tmp_path / "o")]) == 2
+    assert "no Coulomb cap" in capsys.readouterr().err
 
 
 def test_atomic_write_leaves_nothing_on_failure(tmp_path):
@@ -167,8 +254,6 @@ def test_transverse_mode_frequency(rest):
 
 
 def test_chain_cli_dynamics(tmp_path):
-    import json
-
     from fricstab.cli import main
     out = tmp_path / "dyn"
     assert main(["chain", "dynamics", "--fx", "0.03", "--duration", "500", "--seed", "2",
@@ -176,6 +261,7 @@ def test_chain_cli_dynamics(tmp_path):
     doc = json.loads((out / "dynamics.json").read_text())
     with np.load(out / "dynamics.npz") as npz:
         msd = npz["msd"]
+        assert npz["wall_hist"].shape[1:] == (10, 1)
     assert len(doc["first_breach_paper_time"]) == 10
     assert msd[0] == 0 and np.all(np.isfinite(msd))
     # Undamped dynamics from a perturbed equilibrium: the perturbation (1e-9
@@ -186,8 +272,6 @@ def test_chain_cli_dynamics(tmp_path):
 
 
 def test_chain_cli_waves(tmp_path):
-    import json
-
     from fricstab.cli import main
     out = tmp_path / "waves"
     assert main(["chain", "waves", "--fx", "0.09", "--realizations", "2", "--duration", "12000",
@@ -209,3 +293,16 @@ def test_chain_cli_unknown_toml_key_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "friction_coefficient" in err
     assert not (tmp_path / "o" / "ramp.json").exists()
+
+
+def test_breach_is_the_cap_of_the_law_or_leaving_the_wall():
+    """At the cap (to rtol), or off the wall (t* <= 0: the pre-engine |t| >= t*); never
+    for a law without a cap.  Exact: the law's own projection decides."""
+    from fricstab.analysis.observables import at_coulomb_limit
+    scene = ChainScene(n=3)
+    d = 1e-3
+    tstar = 10 * 3.5 * d                       # mu kn / kt delta, kt = 2 kn / 7
+    y = np.array([[0.5 - d, 0.5 - d, 0.5 + 1e-6]])
+    hist = np.array([[[0.999 * tstar], [tstar], [0.0]]])
+    np.testing.assert_array_equal(at_coulomb_limit(scene, y, hist), [[False, True, True]])
+    assert not at_coulomb_limit(ChainScene(n=3, law="ishima"), y, hist).any()

@@ -29,8 +29,8 @@ def chain_member(markers, key, kill_key, **kwargs):
 
 
 def _members(markers, kill_key):
+    from fricstab.protocols.ramp import ramped_equilibrium
     from fricstab.scenes.chain import ChainScene
-    from fricstab.protocols.waves import ramped_equilibrium
     scene = ChainScene(n=4).with_fx(0.02)
     eq = ramped_equilibrium(scene, 0.02, step=5e-3)
     return {f"seed{s}": dict(markers=str(markers), key=f"seed{s}", kill_key=kill_key,

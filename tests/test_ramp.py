@@ -3,10 +3,9 @@
 import numpy as np
 import pytest
 
-from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector
-from fricstab.protocols.quasistatic import relax_newton
-from fricstab.protocols.ramp import run_ramp
 from fricstab.analysis.spectrum import complex_pairs, decompose, growth_rate, pair_indicator
+from fricstab.protocols.ramp import relax_newton, run_ramp
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector
 
 
 @pytest.fixture(scope="module")

@@ -11,8 +11,11 @@ from fricstab.io.scenes import Field, Schema, get, load_toml, register, resolve,
 def test_defaults_are_filled_and_typed():
     p = validate("chain", {"n": 4, "fy": 1})
     assert p["n"] == 4 and p["fy"] == 1.0 and isinstance(p["fy"], float)
-    assert p["mu"] == 10.0 and p["kt"] is None          # derived default stays None
-    assert set(p) == set(get("chain").keys)
+    assert p["inertia"] is None                          # derived default stays None
+    assert p["law"] == "charan" and p["law_params"]["mu"] == 10.0
+    assert p["law_params"]["kt"] == 2 * p["law_params"]["kn"] / 7   # derived law default
+    assert set(p) == {f.key for f in get("chain").fields} | {"law", "law_params",
+                                                               "wall_params"}
 
 
 @pytest.mark.parametrize("key, value, allowed", [
@@ -50,8 +53,9 @@ def test_floats_and_checks():
 def test_toml_loading(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text("n = 6\n[chain]\nmu = 2.5\n")
+    base = validate("chain", {})
     assert resolve("chain", path, {"mu": None, "fy": 0.5}) == \
-        {**validate("chain", {}), "n": 6, "mu": 2.5, "fy": 0.5}
+        {**base, "n": 6, "fy": 0.5, "law_params": {**base["law_params"], "mu": 2.5}}
     path.write_text("chain = 3\n")
     with pytest.raises(ParameterError, match="must be a table"):
         load_toml("chain", path)

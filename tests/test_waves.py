@@ -2,8 +2,9 @@
 
 import numpy as np
 
+from fricstab.protocols.ramp import ramped_equilibrium
+from fricstab.protocols.waves import fit_waves, run_realization
 from fricstab.scenes.chain import ChainScene
-from fricstab.protocols.waves import fit_waves, ramped_equilibrium, run_realization
 
 
 def test_breaches_and_sliding_are_found_and_fitted():

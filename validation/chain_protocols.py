@@ -52,11 +52,10 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
-from fricstab.protocols.dynamics import relax_damped  # noqa: E402
-from fricstab.protocols.quasistatic import relax_newton  # noqa: E402
-from fricstab.protocols.ramp import _match, locate_event, run_ramp  # noqa: E402
 from fricstab.analysis.spectrum import complex_pairs, decompose, growth_rate, tracking_radius  # noqa: E402
+from fricstab.protocols.dynamics import relax_damped  # noqa: E402
+from fricstab.protocols.ramp import _match, locate_event, relax_newton, run_ramp  # noqa: E402
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
 
 FX_MAX = 0.1
 PROBES = (0.03, 0.04, 0.062, 0.083, 0.087, 0.090)

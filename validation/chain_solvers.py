@@ -21,10 +21,11 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.scenes.chain import ChainScene, forces_and_jacobian, initial_state, mass_vector  # noqa: E402
-from fricstab.protocols.dynamics import relax_damped  # noqa: E402
-from fricstab.protocols.quasistatic import relax_newton  # noqa: E402
 from fricstab.analysis.spectrum import complex_pairs, decompose  # noqa: E402
+from fricstab.protocols.dynamics import relax_damped  # noqa: E402
+from fricstab.protocols.ramp import relax_newton  # noqa: E402
+from fricstab.scenes.chain import (ChainScene, forces_and_jacobian, initial_state,  # noqa: E402
+                                   mass_vector, pair_history, wall_history)
 
 
 def main(argv=None):
@@ -52,8 +53,9 @@ def main(argv=None):
             if name not in first and len(complex_pairs(decompose(jac, mass, False).eigenvalues)):
                 first[name] = fx
         rows.append((fx, rn.residual, rd.residual, rn.seconds, rd.seconds, rd.steps,
-                     np.abs(s_n.q - s_d.q).max(), np.abs(s_n.t_pair - s_d.t_pair).max(),
-                     np.abs(s_n.t_wall - s_d.t_wall).max()))
+                     np.abs(s_n.q - s_d.q).max(),
+                     np.abs(pair_history(sc, s_n) - pair_history(sc, s_d)).max(),
+                     np.abs(wall_history(sc, s_n) - wall_history(sc, s_d)).max()))
     lines = [
         "# Chain: Newton against the damped protocol",
         "",

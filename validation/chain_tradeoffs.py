@@ -21,10 +21,11 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.scenes.chain import ChainScene  # noqa: E402
+from fricstab.protocols.dynamics import default_dt  # noqa: E402
 from fricstab.protocols.growth import measure_growth  # noqa: E402
-from fricstab.protocols.ramp import run_ramp  # noqa: E402
-from fricstab.protocols.waves import fit_waves, ramped_equilibrium, run_realization  # noqa: E402
+from fricstab.protocols.ramp import ramped_equilibrium, run_ramp  # noqa: E402
+from fricstab.protocols.waves import fit_waves, run_realization  # noqa: E402
+from fricstab.scenes.chain import ChainScene  # noqa: E402
 
 
 def _first_birth(res):
@@ -61,7 +62,7 @@ def main(argv=None):
               "| dt omega_wall | growth (sim units) | Jacobian | relative error | s |",
               "|---|---|---|---|---|"]
     eq = ramped_equilibrium(scene, 0.03)
-    omega = np.sqrt(1.5 * scene.kn * (scene.fy / scene.kn) ** (1 / 3) / scene.mass)
+    omega = 1.0 / default_dt(scene, 1.0)   # the wall's normal frequency at rest
     for f in (0.005, 0.01, 0.02, 0.05, 0.1, 0.2):
         t = time.perf_counter()
         g = measure_growth(scene.with_fx(0.03), eq, dt=f / omega)

@@ -24,11 +24,12 @@ sys.path.insert(0, str(HERE.parent))
 
 import numpy as np  # noqa: E402
 
-from fricstab.scenes.chain import ChainScene, forces_and_jacobian, mass_vector  # noqa: E402
 from fricstab.analysis.modes import transverse_mode  # noqa: E402
 from fricstab.analysis.spectrum import decompose  # noqa: E402
-from fricstab.protocols.waves import (fit_waves, ramped_equilibrium, run_realization,  # noqa: E402
-                            wave_figure)
+from fricstab.figures.chain import wave_figure  # noqa: E402
+from fricstab.protocols.ramp import ramped_equilibrium  # noqa: E402
+from fricstab.protocols.waves import fit_waves, run_realization  # noqa: E402
+from fricstab.scenes.chain import ChainScene, forces_and_jacobian, mass_vector, time_unit  # noqa: E402
 
 PAPER = {0.083: (0.0014, 0.00013), 0.087: (0.0022, 0.00015), 0.090: (0.0028, 8e-5)}
 PAPER_GROWTH = {0.083: 0.00024, 0.087: 0.00077, 0.090: 0.001}
@@ -42,7 +43,7 @@ def main(argv=None):
     n_real = 5 if ns.quick else ns.realizations
     t0 = time.perf_counter()
     scene = ChainScene()
-    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    unit = time_unit(scene)
     rows, all_reals = [], {}
     for fx in (0.078, 0.083, 0.087, 0.090):
         eq = ramped_equilibrium(scene, fx)

@@ -10,22 +10,21 @@ the tolerance.
 import numpy as np
 import pytest
 
-from fricstab.scenes.chain import ChainScene
-from fricstab.protocols.dynamics import run_dynamics
 from fricstab.analysis.modes import transverse_mode
 from fricstab.analysis.observables import centre_of_mass, first_breach, msd
-from fricstab.protocols.ramp import run_ramp
 from fricstab.analysis.spectrum import complex_pairs
-from fricstab.protocols.waves import fit_waves, ramped_equilibrium, run_realization
+from fricstab.protocols.dynamics import perturbed, run_dynamics
+from fricstab.protocols.ramp import ramped_equilibrium, run_ramp
+from fricstab.protocols.waves import fit_waves, run_realization
+from fricstab.scenes.chain import ChainScene, time_unit
 
 SCENE = ChainScene()
-UNIT = np.sqrt(SCENE.mass * 2 * SCENE.radius / SCENE.kn)
+UNIT = time_unit(SCENE)
 
 
 def _run(fx, duration, seed=0):
     eq = ramped_equilibrium(SCENE, fx)
-    start = eq.copy()
-    start.q += 1e-9 * (SCENE.fy / SCENE.kn) ** (2 / 3) * np.random.default_rng(seed).standard_normal(eq.q.shape)
+    start = perturbed(SCENE, eq, 1e-9, np.random.default_rng(seed))
     return run_dynamics(SCENE.with_fx(fx), start, duration=duration * UNIT, frames=4000)
 
 
@@ -54,7 +53,7 @@ def test_fig3_instability_saturates_below_the_transition(fx):
     m = msd(r.positions)
     late = m[len(m) // 2:]
     assert late.max() < 2 * late.min() and late.max() < 1e-3
-    tau, _ = first_breach(SCENE.with_fx(fx), r.times, r.positions, r.wall_t)
+    tau, _ = first_breach(SCENE.with_fx(fx), r.times, r.positions, r.wall_hist)
     assert np.all(np.isnan(tau))
 
 
@@ -65,7 +64,7 @@ def test_fig3_4_7_transition_to_sliding_at_0_083():
     units, and the centre of mass then moves forward by more than 0.1 (2R).
     """
     r = _run(0.083, 40000.0)
-    tau, _ = first_breach(SCENE.with_fx(0.083), r.times, r.positions, r.wall_t)
+    tau, _ = first_breach(SCENE.with_fx(0.083), r.times, r.positions, r.wall_hist)
     assert np.all(np.isfinite(tau))
     com = centre_of_mass(r.positions)[:, 0]
     assert com[-1] - com[0] > 0.1

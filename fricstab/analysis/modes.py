@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab.scenes.chain import forces_and_jacobian, mass_vector
 from fricstab.analysis.spectrum import decompose
+from fricstab.scenes.chain import forces_and_jacobian, mass_vector, time_unit
 
 __all__ = ["TransverseMode", "transverse_mode"]
 
@@ -28,25 +28,25 @@ class TransverseMode:
     omega: float          # sqrt(-lambda) in paper time units
     wavelength: float     # in units of 2R
     speed: float          # omega / k, paper units (2R per time unit)
-    vector: np.ndarray    # the right eigenvector, (N, 3) real
+    vector: np.ndarray    # the right eigenvector, (N, dof) real (generalized coordinates)
 
 
 def transverse_mode(scene, state):
     """The eigenmode with the largest y fraction among real eigenvalues."""
     _, jac = forces_and_jacobian(scene, state)
     spec = decompose(jac, mass_vector(scene))
-    n = scene.n
+    n, dof = scene.n, scene.dof
     best, best_frac = None, -1.0
     for k, lam in enumerate(spec.eigenvalues):
         if lam.imag != 0 or lam.real >= 0:
             continue
-        v = spec.right[:, k].real.reshape(n, 3)
+        v = spec.right[:, k].real.reshape(n, dof)
         frac = float((v[:, 1] ** 2).sum() / (v ** 2).sum())
         if frac > best_frac:
             best, best_frac = (k, v), frac
     k, v = best
     length = 2 * scene.radius
-    unit = np.sqrt(scene.mass * length / scene.kn)
+    unit = time_unit(scene)
     omega = float(np.sqrt(-spec.eigenvalues[k].real)) * unit
     amp = np.abs(np.fft.rfft(v[:, 1]))
     amp[0] = 0.0  # a uniform y motion has no wavelength

@@ -1,7 +1,10 @@
 """``fricstab chain ramp|jacobian|dynamics|waves``: the chain protocol from the command line.
 
 Scene keys (``--scene FILE.toml``, overridden by ``--n --fy --mu --inertia``):
-``fricstab scene show chain``.  Every command takes ``--out DIR`` (required),
+``fricstab scene show chain``.  Every command takes the contact law
+``--law hertz|charan|ishima|lee_hurley`` (default charan, the paper's) and its
+parameters ``--param KEY=VALUE`` (repeatable; defaults in Charan's units,
+``fricstab scene show chain``), ``--out DIR`` (required),
 ``--force``, ``--quiet``, ``--no-progress``, ``--dry-run`` (validate, print the
 resolved parameters as JSON, write nothing); its record ``DIR/<command>.json``
 carries the numbers, the resolved parameters, the seed, versions, git revision
@@ -12,9 +15,12 @@ and wall/CPU time per stage (:mod:`fricstab.io.results`).
     complex-pair events located by bisection; writes ``ramp.json``,
     ``ramp.npz`` (fx, eigenvalues, condition numbers, residuals, growth rates)
     and ``ramp.png`` (real and imaginary parts against F_x, as Charan Fig. 2).
-``fricstab chain jacobian --fx F --out DIR``
-    Equilibrium at F (ramped from 0 in steps of ``--step``) and its Jacobian:
-    ``state.npz``, ``jacobian.npy`` (see fricstab.scenes.chain_io) and ``jacobian.json``.
+``fricstab chain jacobian [--fx F] --out DIR``
+    Equilibrium at F (default: the scene's fx, 0; ramped from 0 in steps of
+    ``--step``) and its Jacobian: the common ``state.npz``, ``jacobian.npz``,
+    ``dofs.json``, ``mass.npy`` of every scene, and for compatibility
+    ``jacobian.npy`` (dense dF/dq) with the legacy keys ``q`` and ``t`` in
+    ``state.npz`` (:mod:`fricstab.scenes.chain_io`); the record ``jacobian.json``.
 ``fricstab chain dynamics --fx F --duration T --seed S --out DIR [--checkpoint-every K] [--resume] [--export xyz|dump]``
     Newtonian dynamics from that equilibrium with a seeded perturbation:
     ``dynamics.json`` (first Coulomb breach per disk), ``dynamics.npz``
@@ -28,8 +34,11 @@ and wall/CPU time per stage (:mod:`fricstab.io.results`).
     (each stored in ``DIR/members/`` when done, skipped on rerun); wave fits
     in ``waves.json``, ``waves.npz``, ``waves.png``.
 
+A law that cannot make sense with the scene (a frictionless law under
+F_x > 0; waves of a law without a Coulomb cap) is refused before any work.
 Exit status: 0 ok, 2 bad input, 4 no equilibrium or a non-finite force.
-Every file is written atomically (a complete file or none).
+Every file is written atomically (a complete file or none).  Figures:
+:mod:`fricstab.figures.chain`.
 """
 
 import json
@@ -37,10 +46,8 @@ import sys
 
 import numpy as np
 
-from fricstab.scenes.chain import forces_and_jacobian, initial_state
-from fricstab.scenes.chain_io import export_state
-from fricstab.laws import ParameterError
-from fricstab.protocols.quasistatic import relax_newton
+from fricstab.errors import ConvergenceError
+from fricstab.laws import ParameterError, get_law
 
 __all__ = ["add_parser", "run"]
 
@@ -76,6 +83,7 @@ def _count(text):
 def add_parser(sub, parser_class, positive_float):
     """Register ``fricstab chain ramp|jacobian|dynamics|waves`` on the subparsers ``sub``."""
     from fricstab.io.results import add_run_options
+    from fricstab.io.scenes import add_law_options
 
     p = sub.add_parser("chain", help="chain of disks on a substrate (Charan et al.)",
                        description="Chain of disks pressed on a substrate (Charan et al.). "
@@ -90,11 +98,13 @@ def add_parser(sub, parser_class, positive_float):
         c = csub.add_parser(name, help=helptext, description=helptext)
         add_run_options(c, seed=name in ("dynamics", "waves"),
                         checkpoints=name == "dynamics")
+        add_law_options(c, "chain")
         c.add_argument("--n", type=_count, default=None, help="number of disks (default 10)")
         c.add_argument("--fy", type=_finite_float, default=None,
                        help="pressing force F_y (default 0.1)")
         c.add_argument("--mu", type=_finite_float, default=None,
-                       help="friction coefficient (default 10)")
+                       help="friction coefficient mu of charan (default 10; same as "
+                            "--param mu=VALUE)")
         c.add_argument("--inertia", type=_finite_float, default=None,
                        help="moment of inertia (default m R^2 / 2)")
         c.add_argument("--step", type=positive_float(), default=1e-3,
@@ -122,6 +132,9 @@ def add_parser(sub, parser_class, positive_float):
                                 "address of a running scheduler (tcp://host:8786)")
             c.add_argument("--workers", type=_count, default=None,
                            help="worker processes of the local cluster (default: CPU count)")
+        elif name == "jacobian":
+            c.add_argument("--fx", type=_finite_float, default=None,
+                           help="F_x of the equilibrium (default: the scene's fx, 0)")
         else:
             c.add_argument("--fx", type=_finite_float, required=True,
                            help="F_x of the equilibrium")
@@ -138,20 +151,28 @@ def add_parser(sub, parser_class, positive_float):
     return p
 
 
-def _params(ns):
-    """Validated scene keys (scene file, then the command line)."""
-    from fricstab.scenes.chain_io import scene_parameters
-    return scene_parameters(ns.scene, n=ns.n, fy=ns.fy, mu=ns.mu, inertia=ns.inertia)
+def _scene(ns, fx=None):
+    """The scene (F_x = ``fx``, or the file's) from the scene file, then the command line.
 
-
-def _scene(ns):
-    from fricstab.scenes.chain import ChainScene
-    return ChainScene(**{k: v for k, v in _params(ns).items() if v is not None})
+    Validated before any work, the law's refusals included (with ``fx``).
+    """
+    from fricstab.io.scenes import law_overrides
+    from fricstab.scenes.chain_io import scene_from_values, scene_parameters
+    overrides = {"n": ns.n, "fy": ns.fy, "mu": ns.mu, "inertia": ns.inertia, "fx": fx}
+    overrides.update({k: v for k, v in law_overrides(ns).items() if v is not None})
+    return scene_from_values(scene_parameters(ns.scene, **overrides))
 
 
 def _scene_dict(scene):
-    return {k: getattr(scene, k) for k in ("n", "radius", "mass", "kn", "kt", "mu", "fy",
-                                           "inertia")}
+    return {**{k: getattr(scene, k) for k in ("n", "radius", "mass", "fy", "inertia", "law")},
+            **scene.params, **scene.wall_params}
+
+
+def _capped(scene, command):
+    if not get_law(scene.law).capped:
+        raise ParameterError(f"law {scene.law}: {command} measures Coulomb breaching and "
+                             "sliding, but this law has no Coulomb cap (use charan or "
+                             "lee_hurley)")
 
 
 def _check_ramp_steps(value, step, flag):
@@ -177,7 +198,9 @@ def _result_dir(ns, name, outputs):
 
 def _meta(scene, ns, seconds):
     """Keys of the record common to the chain commands (before the provenance)."""
-    return {"scene": _scene_dict(scene), "paper_time_unit": PAPER_TIME_UNIT}
+    from fricstab.scenes.chain import time_unit
+    return {"scene": _scene_dict(scene), "paper_time_unit": PAPER_TIME_UNIT,
+            "paper_time_unit_sim": time_unit(scene)}
 
 
 def _finish(rd, doc, scene, ns, argv, extra_params):
@@ -189,9 +212,11 @@ def _ramp(ns, argv):
     from tqdm import tqdm
 
     from fricstab.errors import check_finite
+    from fricstab.figures.chain import ramp_figure
     from fricstab.protocols.ramp import run_ramp
+    from fricstab.scenes.chain import time_unit
 
-    scene = _scene(ns)
+    scene = _scene(ns, fx=ns.fx_max).with_fx(0.0)
     _check_ramp_steps(ns.fx_max, ns.step, "--fx-max")
     protocol = {"fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol}
     rd = _result_dir(ns, "ramp", ["ramp.npz", "ramp.png"])
@@ -204,7 +229,7 @@ def _ramp(ns, argv):
         res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar)
     check_finite("eigenvalue of M^-1 J", res.eigenvalues, item="ramp step")
     check_finite("force residual", res.residual, item="ramp step")
-    unit2 = scene.mass * 2 * scene.radius / scene.kn  # eigenvalues in paper units
+    unit2 = time_unit(scene) ** 2  # eigenvalues in paper units
     events = [{"kind": e.kind, "fx": e.fx, "fx_lo": e.fx_lo, "fx_hi": e.fx_hi,
                "located": e.located, "bisections": e.bisections,
                "pair_real_part_paper_units": e.pair_center * unit2} for e in res.events]
@@ -215,7 +240,7 @@ def _ramp(ns, argv):
         rd.write_npz("ramp.npz", fx=res.fx, eigenvalues=res.eigenvalues,
                      condition=res.condition, residual=res.residual, growth=res.growth,
                      eigenvalue_unit=unit2)
-        rd.write_png("ramp.png", lambda tmp: _figure(res, events, unit2, tmp))
+        rd.write_png("ramp.png", lambda tmp: ramp_figure(res, events, unit2, tmp))
     _finish(rd, doc, scene, ns, argv, protocol)
     out = rd.path
     print(f"{len(events)} complex-pair events in F_x in [0, {ns.fx_max:g}] "
@@ -227,86 +252,63 @@ def _ramp(ns, argv):
     return 0
 
 
-def _figure(res, events, unit2, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
-    w = res.eigenvalues * unit2
-    top.plot(res.fx, w.real, color="0.75", lw=0.6)
-    cplx = np.where(np.abs(w.imag) > 0, w.real, np.nan)
-    top.plot(res.fx, cplx, color="C3", lw=1.4)
-    bottom.plot(res.fx, np.where(w.imag > 0, w.imag, np.nan), color="C3", lw=1.4)
-    for e in events:
-        for ax in (top, bottom):
-            ax.axvline(e["fx"], color="C0" if e["kind"] == "birth" else "C2", lw=0.6, ls="--")
-    top.set_ylabel("Re eigenvalue of $M^{-1}J$ (paper units)")
-    bottom.set_ylabel("Im eigenvalue (paper units)")
-    bottom.set_xlabel("$F_x$")
-    top.set_title("Chain ramp: complex pairs (red); births blue, deaths green")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120, format="png")
-    plt.close(fig)
-
-
 def _ramped_equilibrium(scene, fx, step):
-    """Newton ramp from 0 to fx in steps <= step; None if a step fails."""
+    """Newton ramp from 0 to ``fx`` in steps <= ``step`` (ConvergenceError: exit 4)."""
     from fricstab.errors import check_finite
-    state = relax_newton(scene, initial_state(scene)).state
-    n_steps = max(1, int(np.ceil(abs(fx) / step)))
-    for f in np.linspace(0.0, fx, n_steps + 1)[1:]:
-        res = relax_newton(scene.with_fx(f), state)
-        if not res.converged:
-            print(f"fricstab: error: no equilibrium at F_x = {f:.6g} "
-                  f"(residual {res.residual:.1e})", file=sys.stderr)
-            return None
-        state = res.state
+    from fricstab.protocols.ramp import ramped_equilibrium
+    state = ramped_equilibrium(scene, fx, step)
     check_finite("equilibrium position", state.q, item="disk", components=("x", "y", "theta"))
     return state
 
 
 def _jacobian(ns, argv):
     from fricstab.errors import check_finite
+    from fricstab.io.jacobian_export import FILES
+    from fricstab.scenes.chain import forces_and_jacobian
+    from fricstab.scenes.chain_io import export_state
 
-    scene = _scene(ns)
-    _check_ramp_steps(ns.fx, ns.step, "--fx")
-    protocol = {"fx": ns.fx, "step": ns.step}
-    rd = _result_dir(ns, "jacobian", ["state.npz", "jacobian.npy"])
+    loaded = _scene(ns, fx=ns.fx)
+    fx = loaded.fx
+    _check_ramp_steps(fx, ns.step, "--fx")
+    protocol = {"fx": fx, "step": ns.step}
+    rd = _result_dir(ns, "jacobian", [*FILES, "jacobian.npy"])
     if ns.dry_run:
-        return _dry_run(ns, scene, protocol)
+        return _dry_run(ns, loaded, protocol)
     rd.create()
     with rd.stage("equilibrium"):
-        state = _ramped_equilibrium(scene, ns.fx, ns.step)
-    if state is None:
-        return 4
-    loaded = scene.with_fx(ns.fx)
+        state = _ramped_equilibrium(loaded.with_fx(0.0), fx, ns.step)
     with rd.stage("jacobian"):
         f, jac = forces_and_jacobian(loaded, state)
-    check_finite("force", f, item="disk", components=("F_x", "F_y", "T"))
+    check_finite("force", f[:, :loaded.dof], item="disk", components=("F_x", "F_y", "T"))
     check_finite("Jacobian entry", jac, item="row")
-    export_state(loaded, state, jac, rd.path)
-    _finish(rd, {"max_force": float(np.abs(f).max()), "shape": list(jac.shape),
-                 **_meta(scene, ns, 0.0)}, scene, ns, argv, protocol)
-    print(f"equilibrium at F_x = {ns.fx:g}: max |F| = {np.abs(f).max():.1e}; "
-          f"wrote {rd.path}/state.npz, jacobian.npy, jacobian.json")
+    with rd.stage("write"):
+        export_state(loaded, state, rd.path)
+    _finish(rd, {"max_force": float(np.abs(f[:, :loaded.dof]).max()),
+                 "shape": list(jac.shape), **_meta(loaded, ns, 0.0)}, loaded, ns, argv,
+            protocol)
+    print(f"equilibrium at F_x = {fx:g} ({loaded.law}): max |F| = "
+          f"{np.abs(f[:, :loaded.dof]).max():.1e}; wrote {rd.path}/"
+          f"{', '.join(FILES)}, jacobian.npy, jacobian.json")
     return 0
 
 
 def _dynamics(ns, argv):
     from tqdm import tqdm
 
-    from fricstab.io.checkpoint import Checkpointer
-    from fricstab.protocols.dynamics import _default_dt, run_dynamics
     from fricstab.analysis.observables import centre_of_mass, first_breach, msd, paper_time
+    from fricstab.figures.chain import dynamics_figure
+    from fricstab.io.checkpoint import Checkpointer
+    from fricstab.protocols.dynamics import default_dt, perturbed, run_dynamics
     from fricstab.protocols.waves import first_slide
+    from fricstab.scenes.chain import time_unit
 
-    scene = _scene(ns)
+    loaded = _scene(ns, fx=ns.fx)
+    scene = loaded.with_fx(0.0)
     if not 0 <= ns.disk < scene.n:
         raise ParameterError(f"--disk must be in [0, {scene.n - 1}], got {ns.disk}")
     _check_ramp_steps(ns.fx, ns.step, "--fx")
-    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
-    dt = _default_dt(scene, 0.02)
+    unit = time_unit(scene)
+    dt = default_dt(scene, 0.02)
     n_steps = ns.duration * unit / dt
     if not n_steps <= MAX_VERLET_STEPS:
         raise ParameterError(f"--duration {ns.duration:g} needs {n_steps:.3g} Verlet steps "
@@ -330,12 +332,7 @@ def _dynamics(ns, argv):
               file=sys.stderr)
     with rd.stage("equilibrium"):
         state = _ramped_equilibrium(scene, ns.fx, ns.step)
-    if state is None:
-        return 4
-    loaded = scene.with_fx(ns.fx)
-    rng = np.random.default_rng(ns.seed)
-    start = state.copy()
-    start.q += ns.amplitude * (scene.fy / scene.kn) ** (2 / 3) * rng.standard_normal(state.q.shape)
+    start = perturbed(scene, state, ns.amplitude, np.random.default_rng(ns.seed))
     with rd.stage("dynamics"), tqdm(total=int(np.ceil(n_steps)), desc="dynamics", unit="step",
                                     unit_scale=True, disable=ns.no_progress or None,
                                     file=sys.stderr) as bar:
@@ -345,10 +342,10 @@ def _dynamics(ns, argv):
     t = paper_time(scene, res.times)
     m = msd(res.positions)
     com = centre_of_mass(res.positions)
-    tau, x_tau = first_breach(loaded, res.times, res.positions, res.wall_t)
+    tau, x_tau = first_breach(loaded, res.times, res.positions, res.wall_hist)
     tau_s, x_s = first_slide(scene, t, res.positions, state.q)
     doc = {"protocol_description": "Newton ramp to F_x, seeded perturbation, undamped "
-                                   "velocity Verlet",
+                                   "velocity Verlet (engine)",
            "fx": ns.fx, "seed": ns.seed, "amplitude": ns.amplitude,
            "duration_paper_units": ns.duration, "time_unit": PAPER_TIME_UNIT,
            "resumed_from_step": None if resume is None else int(resume["step"]),
@@ -358,19 +355,22 @@ def _dynamics(ns, argv):
            "first_slide_paper_time": [None if np.isnan(v) else float(v) for v in tau_s],
            "slide_threshold_2R": 0.02,
            "final_msd": float(m[-1]), **_meta(scene, ns, res.seconds)}
+    wall_t = res.wall_hist[:, :, 0] if res.wall_hist.shape[2] else \
+        np.zeros(res.wall_hist.shape[:2])
     with rd.stage("write"):
         rd.write_npz("dynamics.npz", time=t, positions=res.positions, velocities=res.velocities,
-                     wall_t=res.wall_t, msd=m, centre_of_mass=com,
+                     wall_t=wall_t, wall_hist=res.wall_hist, msd=m, centre_of_mass=com,
                      first_breach_time=paper_time(scene, tau), first_breach_x=x_tau)
         rd.write_png("dynamics.png",
-                     lambda tmp: _dynamics_figure(t, m, com, res.positions, ns.disk, tmp))
+                     lambda tmp: dynamics_figure(t, m, com, res.positions, ns.disk, tmp))
         if ns.export is not None:
             _export_trajectory(rd, ns.export, scene, t, res.positions, res.velocities)
     _finish(rd, doc, scene, ns, argv, protocol)
     ck.clear()
-    print(f"dynamics at F_x = {ns.fx:g} for {ns.duration:g} time units ({res.seconds:.1f} s): "
-          f"final M(t) = {m[-1]:.3e}; disks at the Coulomb limit: {int(np.sum(~np.isnan(tau)))}"
-          f"/{scene.n}; wrote {rd.path}/dynamics.json, dynamics.npz, dynamics.png")
+    print(f"dynamics at F_x = {ns.fx:g} ({scene.law}) for {ns.duration:g} time units "
+          f"({res.seconds:.1f} s): final M(t) = {m[-1]:.3e}; disks at the Coulomb limit: "
+          f"{int(np.sum(~np.isnan(tau)))}/{scene.n}; wrote {rd.path}/dynamics.json, "
+          "dynamics.npz, dynamics.png")
     return 0
 
 
@@ -398,38 +398,13 @@ def _export_trajectory(rd, kind, scene, t, positions, velocities):
                       lambda tmp: export.write_lammps_dump(tmp, pos, radius, **kw))
 
 
-def _dynamics_figure(t, m, com, positions, disk, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-    axes[0].semilogy(t[1:], m[1:])  # M(0) = 0
-    axes[0].set_xlabel("t (paper units)")
-    axes[0].set_ylabel("M(t)")
-    axes[0].set_title("mean-square displacement (Fig. 3)")
-    sc = axes[1].scatter(positions[:, disk, 0], positions[:, disk, 1], c=t, s=1, cmap="viridis")
-    fig.colorbar(sc, ax=axes[1], label="t (paper units)")
-    axes[1].set_xlabel("x")
-    axes[1].set_ylabel("y")
-    axes[1].set_title(f"trajectory of disk {disk} (Fig. 4)")
-    axes[2].plot(t, com[:, 0] - com[0, 0], label="x")
-    axes[2].plot(t, com[:, 1] - com[0, 1], label="y")
-    axes[2].set_xlabel("t (paper units)")
-    axes[2].set_ylabel("centre of mass - initial")
-    axes[2].legend()
-    axes[2].set_title("centre of mass (Fig. 7)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110, format="png")
-    plt.close(fig)
-
-
 def _waves(ns, argv):
-    from fricstab.scenes.chain import mass_vector
-    from fricstab.io.ensemble import run_ensemble
     from fricstab.analysis.modes import transverse_mode
     from fricstab.analysis.spectrum import decompose
-    from fricstab.protocols.waves import fit_waves, realization_from_arrays, realization_member, wave_figure
+    from fricstab.figures.chain import wave_figure
+    from fricstab.io.ensemble import run_ensemble
+    from fricstab.protocols.waves import fit_waves, realization_from_arrays, realization_member
+    from fricstab.scenes.chain import forces_and_jacobian, mass_vector, time_unit
 
     if ns.realizations < 2:
         raise ParameterError(f"--realizations must be >= 2, got {ns.realizations}")
@@ -437,7 +412,8 @@ def _waves(ns, argv):
         raise ParameterError(f"--realizations must be <= 100000, got {ns.realizations}")
     if ns.workers is not None and not 1 <= ns.workers <= 1024:
         raise ParameterError(f"--workers must be an integer in [1, 1024], got {ns.workers}")
-    scene = _scene(ns)
+    scene = _scene(ns, fx=max(ns.fx, key=abs)).with_fx(0.0)
+    _capped(scene, "waves")
     for fx in ns.fx:
         _check_ramp_steps(fx, ns.step, "--fx")
     fxs = list(dict.fromkeys(ns.fx))
@@ -448,14 +424,12 @@ def _waves(ns, argv):
     if ns.dry_run:
         return _dry_run(ns, scene, protocol)
     rd.create()
-    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
+    unit = time_unit(scene)
     seeds = range(ns.seed, ns.seed + ns.realizations)
     members, equilibria = {}, {}
     with rd.stage("equilibria"):
         for fx in fxs:
             eq = _ramped_equilibrium(scene, fx, ns.step)
-            if eq is None:
-                return 4
             equilibria[fx] = eq
             for seed in seeds:
                 members[f"fx{fx:g}_seed{seed}"] = dict(
@@ -477,7 +451,8 @@ def _waves(ns, argv):
             mode = transverse_mode(sc, eq)
             results.append({"fx": fx, "v1": fit.v1, "v1_err": fit.v1_err, "v2": fit.v2,
                             "v2_err": fit.v2_err, "v_com": fit.v_com, "v_com_err": fit.v_com_err,
-                            "growth_rate": growth, "v1_over_growth": fit.v1 / growth,
+                            "growth_rate": growth,
+                            "v1_over_growth": fit.v1 / growth if growth > 0 else None,
                             "v2_predicted_transverse": mode.speed,
                             "transverse_omega": mode.omega,
                             "transverse_wavelength": mode.wavelength,
@@ -505,12 +480,16 @@ def _waves(ns, argv):
 
 
 def run(ns, argv=None):
-    """Run ``fricstab chain ...``; ``argv`` (the command's arguments) goes into the record."""
+    """Run ``fricstab chain ...``; ``argv`` (the command's arguments) goes into the record.
+
+    No equilibrium (:class:`ConvergenceError`) is one line and exit status 4.
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
-    if ns.chain_command == "waves":
-        return _waves(ns, argv)
-    if ns.chain_command == "ramp":
-        return _ramp(ns, argv)
-    if ns.chain_command == "dynamics":
-        return _dynamics(ns, argv)
-    return _jacobian(ns, argv)
+    command = {"waves": _waves, "ramp": _ramp, "dynamics": _dynamics,
+               "jacobian": _jacobian}[ns.chain_command]
+    try:
+        return command(ns, argv)
+    except ConvergenceError as exc:
+        text = " ".join(str(exc).split())
+        print(f"fricstab: error: {text}", file=sys.stderr)
+        return 4

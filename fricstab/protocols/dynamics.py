@@ -1,22 +1,25 @@
-"""Velocity Verlet for the chain: the damped protocol and Newtonian dynamics.
+"""Velocity Verlet for the chain on the engine: the damped protocol and Newtonian dynamics.
 
 ``m r'' = F - m nu r'`` and ``I theta'' = T - I nu theta'`` (Charan SM: global
 viscous drag proportional to the velocities, nu = 0.01; nu = 0 is Newtonian
-dynamics).  Each step: half kick with the drag at the old velocity, drift,
-history advanced by the increment rule for the drift (with the Coulomb
-rescaling: Charan "history updated every step"), new forces, second half kick
-with the drag treated implicitly.  Time is in simulation units
-(``sqrt(m/kn)`` for m = kn = 1); Charan's unit is ``sqrt(m 2R/kn)``.
+dynamics), run by :func:`fricstab.engine.run` with ``Controls(drag=nu)``:
+half kick with the drag at the old velocity, drift, the history advanced by
+the increment rule at the new configuration (``A(q_new) du``, LAMMPS' order;
+the pre-engine loop took ``A(q_old)``, an O(dt) difference per step in the
+discrete dynamics) and projected onto the Coulomb circle (Charan: "history
+updated every step"), new forces, second half kick with the drag implicit.
+Time is in simulation units (``sqrt(m/kn)`` for m = kn = 1); Charan's unit
+is ``sqrt(m 2R/kn)`` (:func:`fricstab.scenes.chain.time_unit`).
 
-Checkpoints: :func:`run_dynamics` runs the Verlet loop in chunks of whole
-steps and may save the full state between chunks (q, v, histories, the
+Checkpoints: :func:`run_dynamics` runs the loop in chunks of whole steps
+and may save the full state between chunks (the engine state's arrays, the
 frames recorded so far, the step counter; :class:`fricstab.io.checkpoint.
-Checkpointer`).  A chunk starts by recomputing the forces from the state,
-which is the same deterministic function of the same numbers the
-uninterrupted loop evaluated, so a resumed run is bit-identical to an
-uninterrupted one on the same machine.  A non-finite force stops the loop at
-that step and raises :class:`fricstab.errors.NumericalError` naming the step,
-the disk and the component.
+Checkpointer`).  Each chunk starts from the forces recomputed from the state
+(:meth:`System.forces`, no projection), the same deterministic function of
+the same numbers in an uninterrupted and in a resumed run, so a resumed run
+is bit-identical to an uninterrupted one on the same machine.  A non-finite
+force or position stops the loop and raises :class:`fricstab.errors.
+NumericalError` naming the step and the disk.
 """
 
 import time
@@ -24,16 +27,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab._numba import kernel_jit
-from fricstab.scenes.chain import _advance, _assemble
+from fricstab.engine import Controls, State, run
 from fricstab.errors import NumericalError
+from fricstab.scenes.chain import (chain_system, legacy_order, rest_overlap, wall_slots,
+                                   wall_stiffness)
 
-__all__ = ["VerletResult", "relax_damped", "run_dynamics"]
+__all__ = ["VerletResult", "default_dt", "perturbed", "relax_damped", "run_dynamics"]
 
 
 @dataclass(frozen=True)
 class VerletResult:
-    """Outcome of a Verlet run."""
+    """Outcome of a Verlet run.
+
+    ``positions`` and ``velocities`` are physical: (x, y, theta) and
+    (x', y', omega) per disk, whatever the law's rotation coordinate;
+    ``wall_hist`` (frames, N, H) the wall contacts' histories of disks 0..N-1.
+    """
 
     state: object
     velocity: np.ndarray
@@ -41,132 +50,92 @@ class VerletResult:
     steps: int
     converged: bool
     seconds: float
-    times: np.ndarray = None       # recorded times (dynamics)
-    positions: np.ndarray = None   # recorded q, (frames, N, 3)
-    wall_t: np.ndarray = None      # recorded wall histories, (frames, N)
+    times: np.ndarray = None       # recorded times (dynamics), simulation units
+    positions: np.ndarray = None   # recorded (x, y, theta), (frames, N, 3)
+    wall_hist: np.ndarray = None   # recorded wall histories, (frames, N, H)
     velocities: np.ndarray = None  # recorded velocities (x', y', theta'), (frames, N, 3)
 
-
-@kernel_jit
-def _first_nonfinite(f):
-    for i in range(f.shape[0]):
-        for a in range(3):
-            if not np.isfinite(f[i, a]):
-                return 3 * i + a
-    return -1
+    @property
+    def wall_t(self):
+        """The first wall history (charan: t along x), (frames, N)."""
+        return self.wall_hist[:, :, 0]
 
 
-@kernel_jit
-def _verlet(q, v, t_pair, t_wall, R, kn, kt, mu, fy, fx, period, mass, inertia, nu, dt,
-            step0, max_steps, tol, check_every, record_every, frame0, rec_q, rec_tw, rec_v):
-    """Steps ``step0 .. max_steps - 1``; returns (steps done, residual, frames, bad, step).
+def default_dt(scene, fraction):
+    """``fraction / omega_wall``, ``omega_wall^2 = k_wall / m`` the wall's normal frequency at rest."""
+    return fraction / np.sqrt(wall_stiffness(scene) / scene.mass)
 
-    ``bad`` is -1, or ``3 i + a`` for the first non-finite force component a
-    of disk i, found after step ``step`` (then the loop stops there).
+
+def perturbed(scene, state, amplitude, rng):
+    """A copy of ``state`` moved by ``amplitude`` times the rest wall overlap times N(0, 1).
+
+    One standard normal draw per entry of ``q`` (N, 3), so that a seed gives
+    the same perturbation under every law; a frictionless law's rotation
+    column is left at rest.
     """
-    n = q.shape[0]
-    f = np.empty((n, 3))
-    jac = np.empty((1, 1))
-    _assemble(q, t_pair, t_wall, R, kn, kt, mu, fy, fx, period, f, jac, False)
-    bad = _first_nonfinite(f)
-    if bad >= 0:
-        return step0, np.inf, frame0, bad, step0
-    inv = np.empty(3)
-    inv[0] = 1.0 / mass
-    inv[1] = 1.0 / mass
-    inv[2] = 1.0 / inertia
-    dq = np.empty((n, 3))
-    residual = np.inf
-    frame = frame0
-    for step in range(step0, max_steps):
-        if record_every > 0 and step % record_every == 0 and frame < rec_q.shape[0]:
-            rec_q[frame] = q
-            rec_tw[frame] = t_wall
-            rec_v[frame] = v
-            frame += 1
-        for i in range(n):
-            for a in range(3):
-                v[i, a] += 0.5 * dt * (f[i, a] * inv[a] - nu * v[i, a])
-                dq[i, a] = dt * v[i, a]
-        _advance(q, dq, t_pair, t_wall, R, kn, kt, mu, period)
-        for i in range(n):
-            for a in range(3):
-                q[i, a] += dq[i, a]
-        _assemble(q, t_pair, t_wall, R, kn, kt, mu, fy, fx, period, f, jac, False)
-        bad = _first_nonfinite(f)
-        if bad >= 0:
-            return step + 1, np.inf, frame, bad, step + 1
-        for i in range(n):
-            for a in range(3):
-                v[i, a] = (v[i, a] + 0.5 * dt * f[i, a] * inv[a]) / (1.0 + 0.5 * dt * nu)
-        if tol > 0 and step % check_every == 0:
-            residual = np.abs(f).max()
-            if residual < tol:
-                return step + 1, residual, frame, -1, step + 1
-    residual = np.abs(f).max()
-    return max_steps, residual, frame, -1, max_steps
+    start = state.copy()
+    noise = rng.standard_normal(start.q.shape)
+    noise[:, scene.dof:] = 0.0
+    start.q += amplitude * rest_overlap(scene) * noise
+    return start
 
 
-_COMPONENTS = ("F_x", "F_y", "torque T")
-
-
-def _raise_nonfinite(bad, step, checkpoint_path=None):
+def _rename(exc, step0, checkpoint_path=None):
+    """The engine's NumericalError in the chain's words (disk, Verlet step)."""
     where = f"; last checkpoint {checkpoint_path}" if checkpoint_path else ""
-    raise NumericalError(f"non-finite force {_COMPONENTS[bad % 3]} on disk {bad // 3} "
-                         f"at Verlet step {step}{where}", step=step, item=bad // 3,
-                         quantity=_COMPONENTS[bad % 3])
-
-
-def _run(scene, state, velocity, nu, dt, max_steps, tol, record_every, frames):
-    s = state.copy()
-    v = np.zeros_like(s.q) if velocity is None else np.array(velocity, dtype=float)
-    rec_q = np.empty((max(frames, 1), scene.n, 3))
-    rec_tw = np.empty((max(frames, 1), scene.n))
-    t0 = time.perf_counter()
-    steps, residual, frame, bad, at = _verlet(
-        s.q, v, s.t_pair, s.t_wall, scene.radius, scene.kn, scene.kt, scene.mu, scene.fy,
-        scene.fx, scene.period, scene.mass, scene.inertia, nu, dt, 0, max_steps, tol, 100,
-        record_every, 0, rec_q, rec_tw, np.empty_like(rec_q))
-    if bad >= 0:
-        _raise_nonfinite(bad, at)
-    return s, v, steps, residual, frame, rec_q[:frame], rec_tw[:frame], time.perf_counter() - t0
+    step = exc.step if exc.step is not None else step0
+    what = exc.quantity or "force"
+    return NumericalError(f"non-finite {what} of disk {exc.item} at Verlet step {step}{where}",
+                          step=step, item=exc.item, quantity=what)
 
 
 def relax_damped(scene, state, nu=0.01, dt=None, tol=1e-12, max_steps=50_000_000):
-    """The damped protocol: Verlet with drag ``nu`` until max |F|, |T| < ``tol``.
+    """The damped protocol: Verlet with drag ``nu`` from rest until max |F|, |T| < ``tol``.
 
-    ``dt`` defaults to 0.05 / omega_wall with ``omega_wall^2 = 1.5 kn
-    (F_y/kn)^(1/3) / m``, the stiffest normal mode of the scene at rest.
+    ``dt`` defaults to 0.05 / omega_wall (:func:`default_dt`), the stiffest
+    normal mode of the scene at rest.  ``state`` is not modified.
     """
     if dt is None:
-        omega = np.sqrt(1.5 * scene.kn * (scene.fy / scene.kn) ** (1 / 3) / scene.mass)
-        dt = 0.05 / omega
-    s, v, steps, residual, _, _, _, secs = _run(scene, state, None, nu, dt, max_steps, tol, 0, 0)
-    return VerletResult(s, v, float(residual), int(steps), bool(residual < tol), secs)
+        dt = default_dt(scene, 0.05)
+    system = chain_system(scene)
+    s = state.copy()
+    s.v[:] = 0.0
+    t0 = time.perf_counter()
+    try:
+        out = run(system, s, dt, max_steps, Controls(drag=nu), tol=tol, check_every=100)
+    except NumericalError as exc:
+        raise _rename(exc, 0) from None
+    return VerletResult(s, s.v.copy(), float(out.residual), int(out.steps), bool(out.converged),
+                        time.perf_counter() - t0)
 
 
-def _default_dt(scene, fraction):
-    omega = np.sqrt(1.5 * scene.kn * (scene.fy / scene.kn) ** (1 / 3) / scene.mass)
-    return fraction / omega
+def _physical(system, frames):
+    """Generalized frames (F, N, 3) -> physical (x, y, theta): the rotation over s."""
+    out = np.array(frames, dtype=float)
+    out[..., 2] /= system.rscale
+    return out
 
 
 def run_dynamics(scene, state, velocity=None, dt=None, duration=100.0, frames=2000, nu=0.0,
                  checkpointer=None, checkpoint_every=None, resume=None, progress=None):
-    """Newtonian dynamics (``nu = 0``) for ``duration``, recording ``frames`` frames.
+    """Newtonian dynamics (``nu = 0``) for ``duration``, recording about ``frames`` frames.
 
     Parameters
     ----------
-    scene, state : ChainScene, ChainState
-        The scene (with its F_x) and the starting state (not modified).
+    scene : ChainScene
+        The scene (with its F_x).
+    state : engine State
+        The starting state (not modified); its histories are projected at
+        its configuration before the first step.
     velocity : ndarray (N, 3), optional
-        Initial velocities (default zero).
+        Initial generalized velocities (default zero).
     dt : float, optional
-        Verlet step in simulation units (default ``0.02 / omega_wall``, see
-        :func:`relax_damped`); smaller is more accurate and proportionally slower.
+        Verlet step in simulation units (default ``0.02 / omega_wall``,
+        :func:`default_dt`); smaller is more accurate and proportionally slower.
     duration : float
         Simulated time in simulation units.
     frames : int
-        About this many frames are recorded, every ``max(1, steps // frames)`` steps.
+        Frames are recorded every ``max(1, steps // frames)`` steps.
     checkpointer : fricstab.io.checkpoint.Checkpointer, optional
         Where the state is saved every ``checkpoint_every`` steps.
     resume : dict, optional
@@ -177,27 +146,28 @@ def run_dynamics(scene, state, velocity=None, dt=None, duration=100.0, frames=20
     Raises
     ------
     NumericalError
-        A force became NaN or inf (the message names the step, disk and component).
+        A force or position became NaN or inf (the message names the step and disk).
     """
     if dt is None:
-        dt = _default_dt(scene, 0.02)
+        dt = default_dt(scene, 0.02)
+    system = chain_system(scene)
     n_steps = int(np.ceil(duration / dt))
     every = max(1, n_steps // frames)
-    n_frames = n_steps // every + 1
     s = state.copy()
-    v = np.zeros_like(s.q) if velocity is None else np.array(velocity, dtype=float)
-    rec_q = np.empty((n_frames, scene.n, 3))
-    rec_tw = np.empty((n_frames, scene.n))
-    rec_v = np.empty((n_frames, scene.n, 3))
-    step = frame = 0
+    s.v[:] = 0.0 if velocity is None else np.asarray(velocity, dtype=float)
+    walls = legacy_order(s)[0][scene.n:]
+    rec_q, rec_v, rec_h = [], [], []
+    meas = np.zeros(8)
+    step = 0
     if resume is not None:
-        step, frame = int(resume["step"]), int(resume["frame"])
-        s.q[...], v[...] = resume["q"], resume["v"]
-        s.t_pair[...], s.t_wall[...] = resume["t_pair"], resume["t_wall"]
-        rec_q[:frame], rec_tw[:frame] = resume["rec_q"], resume["rec_tw"]
-        rec_v[:frame] = resume["rec_v"]
+        step = int(resume["step"])
+        s = State.from_arrays({k[6:]: v for k, v in resume.items() if k.startswith("state_")})
+        meas = np.array(resume["meas"], float)
+        rec_q, rec_v, rec_h = [resume["rec_q"]], [resume["rec_v"]], [resume["rec_h"]]
         if progress is not None:
             progress.update(step)
+    else:
+        system.project(s)
     chunk = checkpoint_every if checkpointer is not None and checkpoint_every else \
         max(1, n_steps // 100)
     last_path = None if resume is None else resume.get("path")
@@ -205,20 +175,31 @@ def run_dynamics(scene, state, velocity=None, dt=None, duration=100.0, frames=20
     residual = np.inf
     while step < n_steps:
         end = min(n_steps, (step // chunk + 1) * chunk)
-        done, residual, frame, bad, at = _verlet(
-            s.q, v, s.t_pair, s.t_wall, scene.radius, scene.kn, scene.kt, scene.mu, scene.fy,
-            scene.fx, scene.period, scene.mass, scene.inertia, nu, dt, step, end, 0.0, 100,
-            every, frame, rec_q, rec_tw, rec_v)
-        if bad >= 0:
-            _raise_nonfinite(bad, at, last_path)
+        try:
+            out = run(system, s, dt, end, Controls(drag=nu), record_every=every,
+                      record_hist=True, forces=system.forces(s), step0=step, meas=meas)
+        except NumericalError as exc:
+            raise _rename(exc, step, last_path) from None
+        except ValueError as exc:   # the law refused a configuration (e.g. no contact width)
+            raise NumericalError(f"the contact law failed at Verlet step {step}..{end}: "
+                                 f"{exc}", step=step) from None
+        residual = out.residual
+        meas = out.driven_force
+        rec_q.append(out.q)
+        rec_v.append(out.v)
+        rec_h.append(out.hist[:, walls, :wall_slots(scene)])
         if progress is not None:
             progress.update(end - step)
         step = end
         if checkpointer is not None and checkpoint_every and step < n_steps:
-            last_path = checkpointer.save(step, frame=np.int64(frame), q=s.q, v=v,
-                                          t_pair=s.t_pair, t_wall=s.t_wall,
-                                          rec_q=rec_q[:frame], rec_tw=rec_tw[:frame],
-                                          rec_v=rec_v[:frame])
-    times = np.arange(frame) * every * dt
-    return VerletResult(s, v, float(residual), int(step), True, time.perf_counter() - t0,
-                        times, rec_q[:frame], rec_tw[:frame], rec_v[:frame])
+            arrays = {"state_" + k: v for k, v in s.arrays().items()}
+            last_path = checkpointer.save(step, meas=meas, rec_q=np.concatenate(rec_q),
+                                          rec_v=np.concatenate(rec_v),
+                                          rec_h=np.concatenate(rec_h), **arrays)
+    q = np.concatenate(rec_q) if rec_q else np.zeros((0, scene.n, 3))
+    v = np.concatenate(rec_v) if rec_v else np.zeros((0, scene.n, 3))
+    h = np.concatenate(rec_h) if rec_h else np.zeros((0, scene.n, wall_slots(scene)))
+    times = np.arange(len(q)) * every * dt
+    return VerletResult(s, s.v.copy(), float(residual), int(step), True,
+                        time.perf_counter() - t0, times, _physical(system, q), h,
+                        _physical(system, v))

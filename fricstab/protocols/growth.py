@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab.scenes.chain import forces_and_jacobian, mass_vector
-from fricstab.protocols.dynamics import run_dynamics
 from fricstab.analysis.spectrum import decompose
+from fricstab.protocols.dynamics import run_dynamics
+from fricstab.scenes.chain import chain_system, forces_and_jacobian, mass_vector, rest_overlap
 
 __all__ = ["GrowthCheck", "measure_growth"]
 
@@ -36,10 +36,11 @@ class GrowthCheck:
 def measure_growth(scene, state, amplitude=1e-9, e_folds=12.0, dt=None):
     """Perturb ``state`` (an equilibrium) along the most unstable mode and fit.
 
-    The perturbation is ``amplitude`` (times the wall overlap) along the real
-    part of the right eigenvector; the run lasts ``e_folds`` predicted
-    e-foldings, so the amplitude stays below ``amplitude * e^e_folds`` (linear
-    regime for the default 1e-9 * 1.6e5).  The fit uses the second half.
+    The perturbation is ``amplitude`` (times the rest wall overlap) along the
+    real part of the right eigenvector (generalized coordinates); the run
+    lasts ``e_folds`` predicted e-foldings, so the amplitude stays below
+    ``amplitude * e^e_folds`` (linear regime for the default 1e-9 * 1.6e5).
+    The fit uses the second half.
     """
     _, jac = forces_and_jacobian(scene, state)
     spec = decompose(jac, mass_vector(scene))
@@ -49,15 +50,17 @@ def measure_growth(scene, state, amplitude=1e-9, e_folds=12.0, dt=None):
     predicted = float(rates[k])
     if predicted <= 0:
         raise ValueError("the state has no unstable mode")
-    n = scene.n
+    n, dof = scene.n, scene.dof
     right = spec.right[:, k].real
     right /= np.abs(right).max()
-    delta_w = (scene.fy / scene.kn) ** (2 / 3)
     start = state.copy()
-    start.q += (amplitude * delta_w * right).reshape(n, 3)
+    start.q[:, :dof] += (amplitude * rest_overlap(scene) * right).reshape(n, dof)
     duration = e_folds / predicted
     res = run_dynamics(scene, start, dt=dt, duration=duration, frames=4000)
-    disp = res.positions.reshape(len(res.times), -1) - state.q.ravel()
+    # the recorded positions are physical (theta); the modes live in generalized q
+    gen = res.positions.copy()
+    gen[:, :, 2] *= chain_system(scene).rscale
+    disp = (gen[:, :, :dof] - state.q[None, :, :dof]).reshape(len(res.times), -1)
     c = np.abs(disp @ spec.left[:, k].conj())
     half = len(res.times) // 2
     # Fit the envelope: the modal amplitude oscillates at Im sqrt(lambda); take

@@ -1,9 +1,19 @@
 """Quasistatic F_x ramp of the chain with detection of complex-pair events.
 
+Equilibria: :func:`relax_newton`, Newton-Raphson of the engine
+(:func:`fricstab.engine.newton`, dense least squares so that a free-rolling
+disk, a zero mode without stiffness, is not moved) with the history carried
+by the increment rule along the iterates (``h += A(q) dq`` at the current
+configuration, projected at the new one), each iteration's largest
+coordinate change capped at ``0.1 delta_w + 1e-3 |F_x| / kn`` so that an
+iterate cannot jump past contacts.  Starting from the previous equilibrium of
+a ramp, the steps are small and the history path differs from a damped
+relaxation by O(|dq|^2) per step (the difference is measured in the protocol
+comparison, ``validation/chain_protocols.md``).
+
 The ramp raises F_x in steps, relaxing each time from the previous
-equilibrium so that the tangential history is carried along
-(:func:`fricstab.protocols.quasistatic.relax_newton`), and records the spectrum of
-M^-1 J.  A *birth* is a complex-conjugate pair present at a step and absent at
+equilibrium so that the tangential history is carried along, and records
+the spectrum of M^-1 J.  A *birth* is a complex-conjugate pair present at a step and absent at
 the previous one, a *death* the converse (pairs matched by their real parts).
 Each event is then located by bisection in F_x on the sign of the pair
 indicator D of :mod:`fricstab.analysis.spectrum`, each trial F_x relaxed from the
@@ -17,12 +27,53 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from fricstab.scenes.chain import forces_and_jacobian, initial_state, mass_vector
-from fricstab.protocols.quasistatic import relax_newton
 from fricstab.analysis.spectrum import (complex_pairs, decompose, growth_rate, pair_indicator,
-                               tracking_radius)
+                                        tracking_radius)
+from fricstab.engine import newton
+from fricstab.errors import ConvergenceError
+from fricstab.scenes.chain import (chain_system, forces_and_jacobian, initial_state,
+                                   mass_vector, reference_stiffness, rest_overlap)
 
-__all__ = ["Event", "RampResult", "locate_event", "run_ramp"]
+__all__ = ["Event", "NewtonResult", "RampResult", "locate_event", "ramped_equilibrium",
+           "relax_newton", "run_ramp"]
+
+
+@dataclass(frozen=True)
+class NewtonResult:
+    """Outcome of :func:`relax_newton`: the relaxed state (a copy) and the engine's report."""
+
+    state: object
+    residual: float
+    iterations: int
+    converged: bool
+    seconds: float
+
+
+def relax_newton(scene, state, tol=1e-12, max_iter=60, max_step=None):
+    """Relax a copy of ``state`` to max |F| over the free dof below ``tol`` (module doc).
+
+    ``max_step`` caps the largest coordinate change of one iteration
+    (default ``0.1 delta_w + 1e-3 |F_x| / kn``, ``delta_w`` the rest overlap of
+    the wall, ``kn`` the reference stiffness).
+    """
+    if max_step is None:
+        max_step = 0.1 * rest_overlap(scene) + 1e-3 * abs(scene.fx) / reference_stiffness(scene)
+    s = state.copy()
+    res = newton(chain_system(scene), s, tol, max_iter=max_iter, solver="lstsq",
+                 max_step=max_step, raise_on_failure=False)
+    return NewtonResult(s, res.residual, res.iterations, res.converged, res.seconds)
+
+
+def ramped_equilibrium(scene, fx, step=1e-3):
+    """Newton ramp from F_x = 0 to ``fx`` in steps <= ``step`` (history carried).
+
+    Raises :class:`ConvergenceError` naming the F_x of a step without equilibrium.
+    """
+    state = _equilibrium(scene, initial_state(scene.with_fx(0.0)), 0.0)[0]
+    n_steps = max(1, int(np.ceil(abs(fx) / step)))
+    for f in np.linspace(0.0, fx, n_steps + 1)[1:]:
+        state = _equilibrium(scene, state, f)[0]
+    return state
 
 
 @dataclass(frozen=True)
@@ -60,8 +111,8 @@ def _newton(scene, state):
 def _equilibrium(scene, state, fx, relax=_newton):
     res = relax(scene.with_fx(fx), state)
     if not res.converged:
-        raise RuntimeError(f"Newton did not converge at F_x = {fx:.9g} "
-                           f"(residual {res.residual:.2e})")
+        raise ConvergenceError(f"no equilibrium at F_x = {fx:.9g} (residual "
+                               f"{res.residual:.2e})")
     return res.state, res.residual
 
 
@@ -124,14 +175,14 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, re
     """Ramp F_x from 0 to ``fx_max`` in ``step`` increments; locate every event.
 
     ``relax(scene, state)`` returns an object with ``state``, ``residual`` and
-    ``converged`` (default: Newton; :func:`fricstab.protocols.dynamics.relax_damped`
+    ``converged`` (default: :func:`relax_newton`; :func:`fricstab.protocols.dynamics.relax_damped`
     gives the paper's damped protocol).  With ``locate=False`` events are
     reported at the step resolution only (``fx_lo``, ``fx_hi`` the step ends,
     ``located`` False).
     """
     t0 = time.perf_counter()
     mass = mass_vector(scene)
-    state, _ = _equilibrium(scene, initial_state(scene), 0.0, relax)
+    state, _ = _equilibrium(scene, initial_state(scene.with_fx(0.0)), 0.0, relax)
     grid = np.round(np.arange(0.0, fx_max + 0.5 * step, step), 12)
     eig, cond, resid, growth, states, events = [], [], [], [], [], []
     prev_pairs, prev_state = np.array([]), state

@@ -3,7 +3,8 @@
 Definitions (paper units: length 2R, time sqrt(m 2R / kn)):
 
 * *breach* of disk i: the first time its wall contact reaches the Coulomb
-  limit |t_w| = t* (:func:`fricstab.analysis.observables.first_breach`), tau_i, at
+  limit of the law (:func:`fricstab.analysis.observables.first_breach`; a law
+  without a cap has no breach), tau_i, at
   position x_i(tau_i).  Forward wave (Eq. 9): ``x_i(tau_i) - x_0(tau_0) =
   V1 (tau_i - tau_0)``, disk 0 being the pushed disk.
 * *sliding* of disk i: the first time its x has moved by more than
@@ -18,19 +19,17 @@ Definitions (paper units: length 2R, time sqrt(m 2R / kn)):
   of each run, mean and standard error over realizations.
 """
 
-from dataclasses import dataclass
-
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab.scenes.chain import initial_state
-from fricstab.protocols.dynamics import run_dynamics
 from fricstab.analysis.observables import centre_of_mass, first_breach, paper_time
-from fricstab.protocols.quasistatic import relax_newton
+from fricstab.protocols.dynamics import perturbed, run_dynamics
+from fricstab.scenes.chain import time_unit
 
-__all__ = ["Realization", "WaveFit", "first_slide", "fit_waves", "ramped_equilibrium",
-           "realization_member", "realization_from_arrays", "run_realization", "wave_figure"]
+__all__ = ["Realization", "WaveFit", "first_slide", "fit_waves", "nanmean",
+           "realization_member", "realization_from_arrays", "run_realization"]
 
 
 @dataclass(frozen=True)
@@ -59,32 +58,20 @@ class WaveFit:
     breached_fraction: float
 
 
-def ramped_equilibrium(scene, fx, step=1e-3):
-    """Newton ramp from F_x = 0 to ``fx`` (history carried)."""
-    state = relax_newton(scene, initial_state(scene)).state
-    for f in np.linspace(0.0, fx, max(1, int(np.ceil(fx / step))) + 1)[1:]:
-        res = relax_newton(scene.with_fx(f), state)
-        if not res.converged:
-            raise RuntimeError(f"no equilibrium at F_x = {f:.6g}")
-        state = res.state
-    return state
-
-
 def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
                     slide_threshold=0.02, frames=20000, dt=None):
     """One seeded run from ``equilibrium`` (scene carries F_x); see module doc.
 
     ``dt`` is the Verlet step in simulation units (default
     :func:`fricstab.protocols.dynamics.run_dynamics`'s 0.02 / omega_wall).
+    The perturbation is ``amplitude`` times the rest wall overlap, Gaussian
+    in every generalized coordinate of the law.
     """
-    rng = np.random.default_rng(seed)
-    start = equilibrium.copy()
-    delta_w = (scene.fy / scene.kn) ** (2 / 3)
-    start.q += amplitude * delta_w * rng.standard_normal(start.q.shape)
-    unit = np.sqrt(scene.mass * 2 * scene.radius / scene.kn)
-    res = run_dynamics(scene, start, dt=dt, duration=duration * unit, frames=frames)
+    start = perturbed(scene, equilibrium, amplitude, np.random.default_rng(seed))
+    res = run_dynamics(scene, start, dt=dt, duration=duration * time_unit(scene),
+                       frames=frames)
     t = paper_time(scene, res.times)
-    tau, x_tau = first_breach(scene, res.times, res.positions, res.wall_t)
+    tau, x_tau = first_breach(scene, res.times, res.positions, res.wall_hist)
     length = 2 * scene.radius
     tau_s, x_s = first_slide(scene, t, res.positions, equilibrium.q, slide_threshold)
     late = t >= 0.7 * t[-1]
@@ -118,34 +105,7 @@ def first_slide(scene, t, positions, q_eq, threshold=0.02):
     return tau, x
 
 
-def wave_figure(all_reals, path):
-    """Charan Fig. 5: realization-averaged breach (upper) and sliding (lower) waves."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 8))
-    for fx, reals in all_reals.items():
-        dt = _nanmean([r.tau - r.tau[0] for r in reals])
-        dx = _nanmean([r.x_tau - r.x_tau[0] for r in reals])
-        top.plot(dt, dx, "o-", label=f"F_x = {fx}")
-        dts = _nanmean([r.tau_slide - r.tau_slide[-1] for r in reals])
-        dxs = _nanmean([r.x_slide - r.x_slide[-1] for r in reals])
-        bottom.plot(dts, dxs, "o-", label=f"F_x = {fx}")
-    top.set_xlabel("tau - tau_1 (paper units)")
-    top.set_ylabel("x(tau) - x_1 (2R)")
-    top.set_title("forward wave of Coulomb breaching (Fig. 5 upper)")
-    bottom.set_xlabel("tau* - tau*_last (paper units)")
-    bottom.set_ylabel("x* - x*_last (2R)")
-    bottom.set_title("backward wave of sliding (Fig. 5 lower)")
-    for ax in (top, bottom):
-        ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=110, format="png")
-    plt.close(fig)
-
-
-def _nanmean(values):
+def nanmean(values):
     """Mean over realizations ignoring NaN; NaN (no warning) where no realization has a value.
 
     A disk that never breaches (or never slides) in any realization has no
@@ -161,7 +121,7 @@ def _nanmean(values):
 def _fit(reals, pick):
     """Slope of the realization-averaged (dt, dx) of the disks, see module doc."""
     dts, dxs = zip(*(pick(r) for r in reals))
-    dt, dx = _nanmean(dts), _nanmean(dxs)
+    dt, dx = nanmean(dts), nanmean(dxs)
     ok = np.isfinite(dt) & np.isfinite(dx)
     if ok.sum() < 3 or np.ptp(dt[ok]) == 0:
         return np.nan

@@ -1,241 +1,363 @@
-"""A chain of disks on a flat substrate (Charan et al.): scene, forces, Jacobian.
+"""A chain of disks on a flat substrate (Charan et al.), built on the engine.
 
-Scene: N disks of radius R on the substrate y = 0, periodic in x with period
-2NR (neighbours just touch), each pressed down by F_y, disk 0 pushed by F_x.
-Contacts are only those the scene needs: ring neighbours (i, i+1 mod N) and
-each disk with the wall.  Laws: ``charan`` (pairs) and ``charan_wall``
-(Charan Eqs. 1, 2, 5), from the verified generated kernels.
+Scene: N disks of radius R on the substrate y = 0 (an analytic floor wall of
+:class:`fricstab.engine.System`), periodic in x with period 2NR (neighbours
+just touch), each pressed down by F_y, disk 0 pushed by F_x: both are the
+System's applied generalized forces.  Contacts are only those the scene
+needs: the ring pairs, listed as static pairs, and each disk with the wall.
 
-Conventions (as the generated kernels, unscaled)
-------------------------------------------------
-* ``q`` is (N, 3): x, y, theta (radians, counter-clockwise), disk by disk.
-* Pair contact c = (i, j = i+1 mod N): ``t_pair[c]`` is the tangential
-  displacement of i relative to j in the lab frame (the tangential force on i
-  opposes it); the separation is ``r_i - r_j`` with the image shift
-  ``-period`` in x for the wrapping contact (N-1, 0), so N = 2 has two
-  distinct contacts.  Wall contact of disk i: ``t_wall[i]`` along x.
-* Generalized forces (N, 3): F_x, F_y, torque T.  The Jacobian is the dense
-  3N x 3N ``dF/dq`` with rows (F_x, F_y, T) and columns (x, y, theta) per
-  disk, disk by disk, the history advanced by the increment rule.  Charan's
-  scaled coordinates (theta~ = R theta, T~ = T/R, mass diag(m, m, I/R^2))
-  follow by :func:`scaled`.
+Any pair law of the engine runs here with its wall form (``hertz``,
+``charan``, ``ishima``, ``lee_hurley``; :data:`LAW_DEFAULTS`, in Charan's
+units 2R = 1, m = 1).  The paper's law is ``charan`` (Eqs. 1, 2, 5).
+
+Conventions
+-----------
+* ``state`` is an engine :class:`~fricstab.engine.State`; ``state.q`` (N, 3)
+  holds the generalized coordinates x, y and the law's rotation coordinate:
+  theta (radians, counter-clockwise; charan, lee_hurley, generalized force the
+  torque T) or Ishima's l = R theta (generalized force T/R).  A frictionless
+  law (hertz) has 2 dof per disk; its third column never moves.
+* Ring pair c = (i, i+1) for i < N-1 is the static pair ``(i, i+1, 0, 0)``;
+  the wrapping pair (N-1, 0) is canonicalized to ``(0, N-1, -1, 0)``: its
+  separation is ``r_0 - r_{N-1} + 2NR`` (the image of disk N-1 one period to
+  the left), so N = 2 has two distinct contacts.  Its history is the
+  displacement of disk 0 relative to N-1, the opposite of the pre-engine
+  convention (N-1 relative to 0), which :func:`pair_history` restores.
+* Contacts are sorted by key (engine): (0, 1), (0, N-1), (0, wall), (1, 2),
+  (1, wall), ...; :func:`legacy_order` maps them to the pre-engine order
+  (ring pairs i = 0..N-1, then the wall contacts of disks 0..N-1).
+* Generalized forces (N, 3).  The Jacobian is the dense ``dF/dq`` over the N
+  dof-per-disk coordinates, disk by disk, with the history advanced by the
+  increment rule (:func:`forces_and_jacobian`); Charan's scaled coordinates
+  (theta~ = R theta, T~ = T/R, mass diag(m, m, I/R^2)) follow by
+  :func:`scaled` (Ishima's l already is one).
 """
 
+import functools
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fricstab._numba import kernel_jit
-from fricstab._numerics import overlap_correction
-from fricstab.generated.charan import charan_force_jacobian, charan_increment
-from fricstab.generated.charan_wall import charan_wall_force_jacobian
-from fricstab.laws import ParameterError
+from fricstab.engine import Material, System
+from fricstab.engine.jacobian import jacobian
+from fricstab.laws import PAIR_LAW_NAMES, ParameterError, get_law
 
-__all__ = ["ChainScene", "ChainState", "contacts", "forces", "forces_and_jacobian",
-           "initial_state", "advance_history", "scaled", "mass_vector"]
+__all__ = ["ChainScene", "LAW_DEFAULTS", "LAW_DOCS", "LAW_UNITS", "LEE_HURLEY_E",
+           "chain_system", "forces", "forces_and_jacobian", "initial_state", "law_defaults",
+           "legacy_order", "mass_vector", "pair_history", "reference_stiffness", "refusal",
+           "rest_overlap", "scaled", "time_unit", "wall_history", "wall_slots",
+           "wall_stiffness"]
+
+#: E* of ``lee_hurley`` in Charan's units (force/length; 2R = 1, F_y = 0.1): the
+#: Hertz-cylinder wall force pi E* delta / lam(delta; R, Rw = R) (Lee & Hurley
+#: Eqs. A2, A3) equals F_y = 0.1 at Hertz's overlap (F_y/kn)^(2/3) = 1.3572e-3
+#: for kn = 2000, so that the chain rests at the paper's height under any law.
+LEE_HURLEY_E = 215.975945884343
+
+_KT = ("2 kn / 7", lambda v: 2.0 * v["kn"] / 7.0)
+
+#: Default law parameters in Charan's units (a pair ``(doc, fn)`` is derived
+#: from the other values: ``fn(values)``).
+LAW_DEFAULTS = {
+    "hertz": {"kn": 2000.0},
+    "charan": {"kn": 2000.0, "kt": _KT, "mu": 10.0},
+    "ishima": {"kn": 2000.0, "kt": _KT},
+    "lee_hurley": {"E": LEE_HURLEY_E, "nu": 0.2, "mus": 10.0, "mur": 0.0,
+                   "Rw": ("R (the disk radius)", lambda v: v["radius"])},
+}
+
+LAW_DOCS = {
+    "hertz": "frictionless Hertz (Charan Eq. 1), kn = 2000: F_x > 0 is refused (no equilibrium)",
+    "charan": "the paper: Hertz + smoothed Coulomb Mindlin (Eqs. 1, 2, 5), kn = 2000, "
+              "kt = 2 kn / 7, mu = 10",
+    "ishima": "Hertz + Ishima's tangential spring (Ishima Eqs. 7-9), kn = 2000, kt = 2 kn / 7; "
+              "no Coulomb cap",
+    "lee_hurley": "Hertz cylinders with Lai's tangential and a type-C rolling spring, capped "
+                  "(Lee & Hurley App. A): E* = 215.976 gives the wall overlap of kn = 2000 "
+                  "under F_y = 0.1, mus = Charan's mu = 10, nu = 0.2 (Lee & Hurley's), "
+                  "mur = 0 (no rolling resistance, as Charan's contacts; with mur > 0 the "
+                  "ring pairs' rolling moments sit on caps that vanish with their normal "
+                  "force and Newton alternates between the two signs of the cap), Rw = R",
+}
+
+LAW_UNITS = {"kn": "force/length^(3/2)", "kt": "force/length^(3/2)", "mu": "-",
+             "E": "force/length", "nu": "-", "mus": "-", "mur": "-", "Rw": "length"}
+
+#: Wall skin: every disk less than a period above the floor keeps its wall
+#: contact listed, so the contact list of a chain never changes in a run.
+SKIN_PERIODS = 1.0
+
+
+def law_defaults(law, values):
+    """The law's parameters (pair, wall) with defaults for those ``values`` lacks."""
+    if law not in PAIR_LAW_NAMES:
+        raise ParameterError(f"unknown law {law!r}; known laws: {', '.join(PAIR_LAW_NAMES)}")
+    info = get_law(law)
+    pair = tuple(info.params)
+    wall = tuple(info.wall_form().params[len(pair):])
+    vals = dict(values)
+    out = {}
+    for key in pair + wall:
+        if vals.get(key) is None:
+            d = LAW_DEFAULTS[law][key]
+            vals[key] = float(d[1](vals) if isinstance(d, tuple) else d)
+        out[key] = vals[key]
+    return {k: out[k] for k in pair}, {k: out[k] for k in wall}
+
+
+def refusal(law, values):
+    """Why ``law`` with ``values`` (scene keys and law parameters) cannot make sense, or None.
+
+    A frictionless law under F_x != 0 has no equilibrium (nothing resists
+    sliding); ``lee_hurley`` cannot carry F_y beyond its largest wall force
+    pi E* 4 (R + Rw)/e^2 (the turning point of the Hertz-cylinder width).
+    """
+    fx = values.get("fx") or 0.0
+    if get_law(law).n_hist == 0 and fx != 0.0:
+        return (f"frictionless: F_x = {fx:g} on disk 0 has no equilibrium (nothing resists "
+                "sliding); use a law with friction (charan, ishima, lee_hurley)")
+    if law == "lee_hurley":
+        r, rw, e = values["radius"], values["Rw"], values["E"]
+        fmax = math.pi * e * 4.0 * (r + rw) / math.e ** 2
+        if not values["fy"] < 0.99 * fmax:
+            return (f"F_y = {values['fy']:g} exceeds the Hertz-cylinder wall's largest force "
+                    f"(0.99 pi E* 4 (R + Rw)/e^2 = {0.99 * fmax:.4g})")
+    return None
 
 
 @dataclass(frozen=True)
 class ChainScene:
     """Parameters of the chain (defaults: Charan et al.).
 
-    ``kt`` defaults to 2 kn / 7 and the moment of inertia ``inertia`` to
-    m R^2 / 2 (a uniform disk; the paper does not state it).
+    ``inertia`` defaults to m R^2 / 2 (a uniform disk; the paper does not
+    state it).  ``params`` are the pair law's parameters and ``wall_params``
+    its wall form's extra ones (``Rw`` of ``lee_hurley``); missing ones take
+    :data:`LAW_DEFAULTS`.
     """
 
     n: int = 10
     radius: float = 0.5
     mass: float = 1.0
-    kn: float = 2000.0
-    kt: float = None
-    mu: float = 10.0
     fy: float = 0.1
     fx: float = 0.0
     inertia: float = None
+    law: str = "charan"
+    params: dict = None
+    wall_params: dict = None
 
     def __post_init__(self):
-        if self.kt is None:
-            object.__setattr__(self, "kt", 2.0 * self.kn / 7.0)
         if self.inertia is None:
             object.__setattr__(self, "inertia", self.mass * self.radius ** 2 / 2.0)
         if not isinstance(self.n, (int, np.integer)) or isinstance(self.n, bool) or self.n < 2:
             raise ParameterError(f"n must be an integer >= 2, got {self.n!r}")
-        for key in ("radius", "mass", "kn", "kt", "mu", "fy", "inertia"):
+        for key in ("radius", "mass", "fy", "inertia"):
             v = getattr(self, key)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ParameterError(f"{key} must be a finite number > 0, got {v!r}")
         if not isinstance(self.fx, (int, float)) or not math.isfinite(self.fx):
             raise ParameterError(f"fx must be a finite number, got {self.fx!r}")
+        given = {**(self.params or {}), **(self.wall_params or {})}
+        info = get_law(self.law) if self.law in PAIR_LAW_NAMES else None
+        if info is None:
+            raise ParameterError(f"unknown law {self.law!r}; known laws: "
+                                 f"{', '.join(PAIR_LAW_NAMES)}")
+        known = tuple(info.wall_form().params)
+        unknown = [k for k in given if k not in known]
+        if unknown:
+            raise ParameterError(f"law {self.law}: unknown parameter {unknown[0]!r} "
+                                 f"(takes {', '.join(known)})")
+        pair, wall = law_defaults(self.law, {"radius": self.radius, **given})
+        object.__setattr__(self, "params", pair)
+        object.__setattr__(self, "wall_params", wall)
+        Material(self.law, pair, wall)  # checks every value, naming a bad one
+        why = refusal(self.law, {"fx": self.fx, "fy": self.fy, "radius": self.radius,
+                                 **pair, **wall})
+        if why:
+            raise ParameterError(f"law {self.law}: {why}")
 
     @property
     def period(self):
         return 2.0 * self.n * self.radius
 
+    @property
+    def dof(self):
+        """Degrees of freedom per disk (2 for a frictionless law, else 3)."""
+        return get_law(self.law).n_dof
+
+    @property
+    def kn(self):
+        """Reference normal stiffness: the law's kn, or (lee_hurley) :func:`reference_stiffness`."""
+        return reference_stiffness(self)
+
     def with_fx(self, fx):
         return replace(self, fx=float(fx))
 
-
-@dataclass
-class ChainState:
-    """Positions and the tangential history (state, see module docstring)."""
-
-    q: np.ndarray
-    t_pair: np.ndarray
-    t_wall: np.ndarray
-    meta: dict = field(default_factory=dict)
-
-    def copy(self):
-        return ChainState(self.q.copy(), self.t_pair.copy(), self.t_wall.copy(), dict(self.meta))
+    def key(self):
+        """The parameters that fix the System apart from F_x (hashable)."""
+        return (int(self.n), float(self.radius), float(self.mass), float(self.fy),
+                float(self.inertia), self.law, tuple(sorted(self.params.items())),
+                tuple(sorted(self.wall_params.items())))
 
 
-def contacts(scene):
-    """(K, 2) int: ring pairs (i, i+1 mod N), then wall contacts (i, -1)."""
-    n = scene.n
-    ring = np.column_stack([np.arange(n), (np.arange(n) + 1) % n])
-    wall = np.column_stack([np.arange(n), -np.ones(n, dtype=int)])
-    return np.vstack([ring, wall])
+@functools.lru_cache(maxsize=64)
+def _base_system(key):
+    n, radius, mass, fy, inertia, law, params, wall = key
+    static = [(i, i + 1, 0, 0) for i in range(n - 1)] + [(0, n - 1, -1, 0)]
+    ext = np.zeros((n, 3))
+    ext[:, 1] = -fy
+    period = 2.0 * n * radius
+    return System(Material(law, dict(params), dict(wall)), np.full(n, radius),
+                  np.full(n, mass), np.full(n, inertia), lx=period, walls=[(0.0, 1.0)],
+                  static=np.array(static), neighbours=False, skin=SKIN_PERIODS * period,
+                  external=ext)
+
+
+def chain_system(scene):
+    """The engine :class:`System` of ``scene`` (F_y on every disk, F_x on disk 0)."""
+    base = _base_system(scene.key())
+    if scene.fx == 0.0:
+        return base
+    ext = base.external.copy()
+    ext[0, 0] += scene.fx
+    return base.with_external(ext)
+
+
+@functools.lru_cache(maxsize=64)
+def _rest_overlap(key):
+    n, radius, mass, fy, inertia, law, params, wall = key
+    p = dict(params)
+    if law != "lee_hurley":
+        return (fy / p["kn"]) ** (2.0 / 3.0)
+    from scipy.optimize import brentq
+
+    from fricstab._numerics import cylinder_lambda
+    rw = dict(wall)["Rw"]
+    turn = 4.0 * (radius + rw) / math.e ** 2
+    force = lambda d: math.pi * p["E"] * d / cylinder_lambda(d, radius, rw) - fy  # noqa: E731
+    return brentq(force, 1e-300, turn * (1 - 1e-12), xtol=1e-300, rtol=4 * np.finfo(float).eps)
+
+
+def rest_overlap(scene):
+    """Wall overlap delta_w of a disk under F_y alone (length).
+
+    Hertz normal force (hertz, charan, ishima): ``(F_y/kn)^(2/3)``;
+    ``lee_hurley``: the root of ``pi E* delta / lam(delta) = F_y`` (Eq. A2).
+    """
+    return _rest_overlap(scene.key())
+
+
+def reference_stiffness(scene):
+    """kn of the law, or for ``lee_hurley`` the Hertz kn with the same rest overlap.
+
+    Sets Charan's time unit sqrt(m 2R / kn) and the scales of the protocols.
+    """
+    if "kn" in scene.params:
+        return scene.params["kn"]
+    return scene.fy / rest_overlap(scene) ** 1.5
+
+
+def wall_stiffness(scene):
+    """dF_n/d delta of the wall contact at the rest overlap (force/length).
+
+    Hertz: ``1.5 kn (F_y/kn)^(1/3)``; Hertz cylinders: ``pi E* / (lam - 1)``.
+    """
+    if scene.law != "lee_hurley":
+        kn = scene.params["kn"]
+        return 1.5 * kn * (scene.fy / kn) ** (1 / 3)
+    from fricstab._numerics import cylinder_lambda
+    lam = cylinder_lambda(rest_overlap(scene), scene.radius, scene.wall_params["Rw"])
+    return math.pi * scene.params["E"] / (lam - 1.0)
+
+
+def time_unit(scene):
+    """Charan's time unit ``sqrt(m 2R / kn)`` in simulation units (kn: reference)."""
+    return math.sqrt(scene.mass * 2 * scene.radius / reference_stiffness(scene))
 
 
 def initial_state(scene, wall_overlap=None):
     """Disks at x_i = (2i + 1) R (neighbours just touching), no history.
 
     They start pressed into the wall by ``wall_overlap`` (default: half the
-    Hertz equilibrium ``(F_y/kn)^(2/3)``), in contact but not in equilibrium:
-    a disk just touching the wall has no stiffness to start a relaxation from.
+    rest overlap :func:`rest_overlap`), in contact but not in equilibrium: a
+    disk just touching the wall has no stiffness to start a relaxation from.
     """
     n = scene.n
     if wall_overlap is None:
-        wall_overlap = 0.5 * (scene.fy / scene.kn) ** (2.0 / 3.0)
-    q = np.zeros((n, 3))
-    q[:, 0] = (2 * np.arange(n) + 1) * scene.radius
-    q[:, 1] = scene.radius - wall_overlap
-    return ChainState(q, np.zeros((n, 2)), np.zeros(n))
+        wall_overlap = 0.5 * rest_overlap(scene)
+    pos = np.zeros((n, 2))
+    pos[:, 0] = (2 * np.arange(n) + 1) * scene.radius
+    pos[:, 1] = scene.radius - wall_overlap
+    return chain_system(scene).state(pos)
 
 
 def mass_vector(scene):
-    """Diagonal of the mass matrix in (x, y, theta) order, disk by disk."""
-    return np.tile([scene.mass, scene.mass, scene.inertia], scene.n)
+    """Generalized masses of the Jacobian's dof (m, m, I/s^2 per disk; s = 1 or R)."""
+    system = chain_system(scene)
+    return system.gmass[:, :system.dof].ravel().copy()
 
 
 def scaled(scene, jac):
-    """Charan's scaled Jacobian (SM Eq. 36): rows T~ = T/R, columns theta~ = R theta."""
+    """Charan's scaled Jacobian (SM Eq. 36): rows T~ = T/R, columns theta~ = R theta.
+
+    For a law in theta; Ishima's ``l = R theta`` already is the scaled
+    coordinate and a frictionless law has none: ``jac`` is returned as is.
+    """
+    if get_law(scene.law).rotation != "theta":
+        return jac
     s = np.tile([1.0, 1.0, scene.radius], scene.n)
     return jac / s[:, None] / s[None, :]
 
 
-@kernel_jit
-def _ring_separation(q, i, period):
-    """Neighbour j = i+1 mod N and r_i - r_j, the image shifted for the wrap."""
-    j = (i + 1) % q.shape[0]
-    dx = q[i, 0] - q[j, 0]
-    if j == 0:
-        dx -= period
-    return j, dx, q[i, 1] - q[j, 1]
-
-
-@kernel_jit
-def _assemble(q, t_pair, t_wall, R, kn, kt, mu, fy, fx, period, forces, jac, want_jac):
-    n = q.shape[0]
-    for i in range(n):
-        forces[i, 0] = 0.0
-        forces[i, 1] = -fy
-        forces[i, 2] = 0.0
-    forces[0, 0] += fx
-    if want_jac:
-        jac[:, :] = 0.0
-    f = np.empty(6)
-    b = np.empty((6, 6))
-    fw = np.empty(3)
-    bw = np.empty((3, 3))
-    for i in range(n):
-        j, dx, dy = _ring_separation(q, i, period)
-        charan_force_jacobian(dx, dy, R, R, kn, kt, mu, t_pair[i, 0], t_pair[i, 1], f, b)
-        for a in range(3):
-            forces[i, a] += f[a]
-            forces[j, a] += f[3 + a]
-        if want_jac:
-            for a in range(3):
-                for c in range(3):
-                    jac[3 * i + a, 3 * i + c] += b[a, c]
-                    jac[3 * i + a, 3 * j + c] += b[a, 3 + c]
-                    jac[3 * j + a, 3 * i + c] += b[3 + a, c]
-                    jac[3 * j + a, 3 * j + c] += b[3 + a, 3 + c]
-    for i in range(n):
-        charan_wall_force_jacobian(q[i, 1], R, kn, kt, mu, t_wall[i], fw, bw)
-        for a in range(3):
-            forces[i, a] += fw[a]
-        if want_jac:
-            for a in range(3):
-                for c in range(3):
-                    jac[3 * i + a, 3 * i + c] += bw[a, c]
-
-
-def _call(scene, state, want_jac):
-    n = scene.n
-    f = np.empty((n, 3))
-    jac = np.empty((3 * n, 3 * n)) if want_jac else np.empty((1, 1))
-    _assemble(state.q, state.t_pair, state.t_wall, scene.radius, scene.kn, scene.kt, scene.mu,
-              scene.fy, scene.fx, scene.period, f, jac, want_jac)
-    return f, jac
-
-
 def forces(scene, state):
     """Total generalized forces (N, 3) including F_y and F_x."""
-    return _call(scene, state, False)[0]
+    return chain_system(scene).forces(state)
 
 
 def forces_and_jacobian(scene, state):
-    """Forces (N, 3) and the 3N x 3N Jacobian dF/dq (unscaled, with history)."""
-    return _call(scene, state, True)
+    """Forces (N, 3) and the dense Jacobian dF/dq (N dof square, with history)."""
+    system = chain_system(scene)
+    _, k = jacobian(system, state)
+    return system.forces(state), k.toarray()
 
 
-@kernel_jit
-def _advance(q, dq, t_pair, t_wall, R, kn, kt, mu, period):
-    """t += A(q) dq by the increment rule, then rescale onto the Coulomb circle.
+def legacy_order(state):
+    """Rows of ``state.contacts`` in the pre-engine order, and the sign of each history.
 
-    The increment matrix A is taken at the configuration before the step; the
-    Coulomb limit and contact loss at the configuration after it (q + dq),
-    so that |t| <= t* holds for the state the step produces.
+    Returns ``(rows, sign)`` of length 2N: ring pairs (i, i+1 mod N) for
+    i = 0..N-1, then the wall contacts of disks 0..N-1; ``sign`` is -1 for
+    the wrapping pair, stored as (0, N-1) with the opposite orientation.
     """
-    n = q.shape[0]
-    a = np.empty((2, 6))
-    for i in range(n):
-        j, dx, dy = _ring_separation(q, i, period)
-        charan_increment(dx, dy, R, R, a)
-        for r in range(2):
-            s = 0.0
-            for c in range(3):
-                s += a[r, c] * dq[i, c] + a[r, 3 + c] * dq[j, c]
-            t_pair[i, r] += s
-        nx = dx + dq[i, 0] - dq[j, 0]
-        ny = dy + dq[i, 1] - dq[j, 1]
-        naive = 2.0 * R - math.sqrt(nx * nx + ny * ny)
-        delta = naive + overlap_correction(nx, ny, R, R, naive)
-        tn = math.sqrt(t_pair[i, 0] ** 2 + t_pair[i, 1] ** 2)
-        if delta <= 0.0:
-            t_pair[i, 0] = 0.0  # contact lost: history forgotten
-            t_pair[i, 1] = 0.0
-        elif tn > mu * kn / kt * delta:
-            scale = mu * kn / kt * delta / tn
-            t_pair[i, 0] *= scale
-            t_pair[i, 1] *= scale
-    for i in range(n):
-        t_wall[i] += dq[i, 0] + R * dq[i, 2]
-        delta = R - (q[i, 1] + dq[i, 1])
-        tstar = mu * kn / kt * delta
-        if delta <= 0.0:
-            t_wall[i] = 0.0
-        elif abs(t_wall[i]) > tstar:
-            t_wall[i] = math.copysign(tstar, t_wall[i])
+    c = state.contacts
+    n = len(state.q)
+    pair = c.j >= 0
+    slot = np.where(pair, np.where(c.m == -1, n - 1, c.i), n + c.i)
+    rows = np.empty(2 * n, np.int64)
+    rows[slot] = np.arange(c.n)
+    sign = np.ones(2 * n)
+    sign[n - 1] = -1.0
+    return rows, sign
 
 
-def advance_history(scene, state, dq):
-    """Advance the history in place for the displacement dq (N, 3) from state.q.
+def pair_history(scene, state):
+    """(N, H) history of ring pair (i, i+1 mod N), i relative to i+1 (pre-engine orientation).
 
-    The increment rule is evaluated at the configuration before the step
-    (first order in |dq|); a history beyond t* is rescaled onto the Coulomb
-    circle, and a lost contact forgets its history.  ``state.q`` is not moved.
+    The sign flip of the wrapping pair applies to lab-frame displacement
+    histories (charan, ishima); ``lee_hurley``'s (ft, mr) are returned as stored.
     """
-    _advance(state.q, np.ascontiguousarray(dq), state.t_pair, state.t_wall, scene.radius,
-             scene.kn, scene.kt, scene.mu, scene.period)
+    rows, sign = legacy_order(state)
+    h = state.contacts.hist[rows[:scene.n]]
+    if scene.law in ("charan", "ishima"):
+        h = h * sign[:scene.n, None]
+    return h
+
+
+def wall_slots(scene):
+    """Number of history slots of the law's wall form (the engine stores the pair form's)."""
+    return get_law(scene.law).wall_form().n_hist
+
+
+def wall_history(scene, state):
+    """(N, H) wall-contact history of disks 0..N-1 (charan: t along x; lee_hurley: ft, mr)."""
+    rows, _ = legacy_order(state)
+    return state.contacts.hist[rows[scene.n:], :wall_slots(scene)]

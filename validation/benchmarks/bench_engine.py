@@ -44,41 +44,21 @@ def _old(module):
 # ---------------------------------------------------------------- chain
 
 def chain_case(steps):
-    from fricstab.scenes.chain import ChainScene
-    from fricstab.protocols.waves import ramped_equilibrium
+    from fricstab.protocols.dynamics import default_dt
+    from fricstab.protocols.ramp import ramped_equilibrium
+    from fricstab.scenes.chain import ChainScene, chain_system
     sc = ChainScene()
     n = sc.n
     eq = ramped_equilibrium(sc, 0.03)
-    static = np.array([[i, i + 1, 0, 0] for i in range(n - 1)] + [[0, n - 1, -1, 0]])
-    ext = np.zeros((n, 3))
-    ext[:, 1] = -sc.fy
-    ext[0, 0] = 0.03
-    system = System(Material("charan", {"kn": sc.kn, "kt": sc.kt, "mu": sc.mu}),
-                    np.full(n, sc.radius), np.full(n, sc.mass), np.full(n, sc.inertia),
-                    lx=sc.period, walls=[(0.0, 1.0)], static=static, neighbours=False,
-                    external=ext)
-    dt = 0.02 / np.sqrt(1.5 * sc.kn * (sc.fy / sc.kn) ** (1 / 3) / sc.mass)
-    base = system.state(eq.q[:, :2], eq.q[:, 2])
-    c = base.contacts
-    for k in range(c.n):
-        i, j = c.i[k], c.j[k]
-        c.hist[k, :2] = (eq.t_wall[i], 0.0) if j < 0 else (
-            eq.t_pair[i] if j == i + 1 else -eq.t_pair[n - 1])
+    system = chain_system(sc.with_fx(0.03))
+    dt = default_dt(sc, 0.02)
 
     def engine():
-        s = base.copy()
+        s = eq.copy()
         run(system, s, dt, steps)
         return n * steps
 
-    dyn = _old("fricstab.protocols.dynamics")
-    old = None
-    if dyn is not None:
-        scene = sc.with_fx(0.03)
-
-        def old():
-            dyn.run_dynamics(scene, eq, dt=dt, duration=steps * dt * (1 - 1e-12), frames=1)
-            return n * steps
-    return n, engine, old
+    return n, engine, None   # the chain's own loop (dynamics._verlet) is deleted
 
 
 # ---------------------------------------------------------------- packing

@@ -36,20 +36,20 @@ def chain_ramp():
 
 
 def _ramped(fx):
+    from fricstab.protocols.ramp import ramped_equilibrium
     from fricstab.scenes.chain import ChainScene
-    from fricstab.protocols.waves import ramped_equilibrium
     return ramped_equilibrium(ChainScene(), fx)
 
 
 def chain_equilibrium():
     """Newton equilibrium at F_x = 0.03 reached by the 1e-3 ramp, and its spectrum."""
-    from fricstab.scenes.chain import ChainScene, forces_and_jacobian, mass_vector
     from fricstab.analysis.spectrum import decompose
+    from fricstab.scenes.chain import ChainScene, forces_and_jacobian, mass_vector, wall_history
     scene = ChainScene().with_fx(0.03)
     st = _ramped(0.03)
     _, jac = forces_and_jacobian(scene, st)
     w = decompose(jac, mass_vector(scene), vectors=False).eigenvalues
-    return {"q": st.q.ravel().tolist(), "t_wall": st.t_wall.tolist(),
+    return {"q": st.q.ravel().tolist(), "t_wall": wall_history(scene, st)[:, 0].tolist(),
             "eig_real": w.real.tolist(), "eig_imag": np.abs(w.imag).tolist()}
 
 
