@@ -375,9 +375,13 @@ def _main(argv):
         print(f"fricstab: error: {_one_line(exc.strerror or exc)}{name}", file=sys.stderr)
         return EXIT_OS
     except Exception as exc:
-        from fricstab.errors import NumericalError
+        from fricstab.errors import ConvergenceError, NumericalError
         if isinstance(exc, NumericalError):
             print(f"fricstab: error: numerical failure: {_one_line(exc)}{_resume_hint(ns)}",
+                  file=sys.stderr)
+            return EXIT_NUMERICAL
+        if isinstance(exc, ConvergenceError):
+            print(f"fricstab: error: no convergence: {_one_line(exc)}{_resume_hint(ns)}",
                   file=sys.stderr)
             return EXIT_NUMERICAL
         if debug:
