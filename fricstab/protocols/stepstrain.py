@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fricstab.analysis.rigidity import ishima_scale
-from fricstab.scenes.packing_relax import separations
+from fricstab.scenes.packing_relax import separations, singular_guard
 from fricstab.engine import newton
 from fricstab.engine.newton import touching
 from fricstab.errors import ConvergenceError, ParameterError
@@ -59,8 +59,13 @@ def shear_stress(system, state):
 
 
 def relax(system, state, f_tol=1e-14, max_iter=50):
-    """Newton (bordered solver) in place to ``max |F| < f_tol``; the NewtonResult."""
-    return newton(system, state, f_tol, max_iter=max_iter, solver="bordered")
+    """Newton (bordered solver) in place to ``max |F| < f_tol``; the NewtonResult.
+
+    Raises :class:`ConvergenceError` also when the sparse LU finds the
+    Jacobian singular (:func:`fricstab.scenes.packing_relax.singular_guard`).
+    """
+    with singular_guard("Newton relaxation"):
+        return newton(system, state, f_tol, max_iter=max_iter, solver="bordered")
 
 
 def strain(system, state, dgamma, f_tol=1e-14, max_iter=50):

@@ -27,7 +27,7 @@ from fricstab._numerics import cylinder_lambda
 from fricstab.engine import Material, System, newton
 from fricstab.errors import ParameterError
 from fricstab.io.scenes import LawChoice
-from fricstab.scenes.packing_relax import relax_normal
+from fricstab.scenes.packing_relax import relax_normal, singular_guard
 from fricstab.scenes.packing import KN, find_contacts, frictionless_system, hertz_forces
 
 __all__ = ["LAWS", "Backbone", "Frictional", "SKIN", "backbone", "frictional", "material",
@@ -181,7 +181,8 @@ def backbone(packing, z_th=2, f_tol=1e-14):
     if np.abs(hertz_forces(pos, radius[keep], packing.box)).max() >= f_tol:
         system = frictionless_system(radius[keep], packing.box, skin=SKIN)
         state = system.state(pos)
-        newton(system, state, f_tol, solver="bordered")
+        with singular_guard("backbone relaxation"):
+            newton(system, state, f_tol, solver="bordered")
         pos = state.q[:, :2].copy()
     return Backbone(pos, radius[keep].copy(), float(packing.box), keep, len(radius),
                     rattler_force)

@@ -15,19 +15,39 @@ one-sided and step strain departs from the theory beyond its error model.
 Units and coordinates of :mod:`fricstab.scenes.packing_friction`.
 """
 
+import contextlib
+import warnings
 from dataclasses import replace
 
 import numpy as np
 import scipy.sparse as sps
+import scipy.sparse.linalg as spla
 
 from fricstab.engine import Material, System, fire
 from fricstab.engine.newton import bordered_solve, translation_modes
 from fricstab.errors import ConvergenceError
 from fricstab.laws import get_law
 
-__all__ = ["frictionless_form", "frozen_rates", "relax_normal", "separations"]
+__all__ = ["frictionless_form", "frozen_rates", "relax_normal", "separations", "singular_guard"]
 
 STALLS = 3     # Newton iterations in a row that do not halve the residual before FIRE
+
+
+@contextlib.contextmanager
+def singular_guard(what):
+    """A singular sparse LU (a warning, or SuperLU's RuntimeError) as a :class:`ConvergenceError`.
+
+    A bordered solve is singular when the packing has a zero mode besides the
+    translations (a disk that lost its contacts, a contact with zero
+    stiffness on its cap): a numerical failure of the relaxation, exit 4.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", spla.MatrixRankWarning)
+        try:
+            yield
+        except (RuntimeError, spla.MatrixRankWarning) as exc:
+            raise ConvergenceError(f"{what}: singular Jacobian (sparse LU: "
+                                   f"{' '.join(str(exc).split())})") from None
 
 
 def separations(system, state):
@@ -151,8 +171,12 @@ def _newton_normal(system, state, f_tol, max_iter):
         stalls = stalls + 1 if res > 0.5 * last else 0
         if it == max_iter or stalls > STALLS:
             break
-        dq, _ = bordered_solve(_normal_jacobian(system, state), -f[:, :2].ravel(),
-                               translation_modes(n, 2))
+        try:
+            with singular_guard("normal-force relaxation"):
+                dq, _ = bordered_solve(_normal_jacobian(system, state), -f[:, :2].ravel(),
+                                       translation_modes(n, 2))
+        except ConvergenceError:
+            break
         if not np.all(np.isfinite(dq)):
             break
         try:
