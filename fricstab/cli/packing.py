@@ -72,12 +72,11 @@ import math
 import sys
 from pathlib import Path
 
-from fricstab.cli.packing_common import DEFAULT_KT, DEFAULTS, ROUTES, start_clock
+from fricstab.cli.packing_common import (DEFAULT_KT, DEFAULTS, MODES_MAX_PARTICLES, ROUTES,
+                                         start_clock)
 from fricstab.errors import ConvergenceError, ParameterError
 
 __all__ = ["add_parser", "run"]
-
-MODES_MAX_PARTICLES = 1100   # --modes default: on up to this backbone size
 
 
 def _nonneg_float(text):

@@ -39,6 +39,7 @@ DEFAULT_KT = {"rigidity": [1e-4, 1.0, 10.0], "dos": [1e-8, 1e-4, 1.0, 10.0]}
 MAKE_KEYS = ("n", "phi", "seed", "dphi", "f_tol", "f_tol_compress")
 OPTION_KEYS = MAKE_KEYS + ("dgamma", "z_th", "route", "bins")
 ROUTES = ("auto", "symmetric", "dense")
+MODES_MAX_PARTICLES = 1100   # rigidity --modes default: on up to this backbone size
 UNITS = {"length": "d (large diameter) = 1", "mass": "m (large disk) = 1",
          "time": "t0 = sqrt(m/k_N) d^(1/4) = 1", "force": "k_N d^(3/2)"}
 _CPU0 = [0.0]                # process CPU time at the start of the command

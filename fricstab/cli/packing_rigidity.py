@@ -10,8 +10,9 @@ the relative disagreements against the 1 % acceptance.
 import sys
 import time
 
-from fricstab.cli.packing_common import (MAKE_KEYS, dry_run, friction_record, meta, public, rel,
-                                         setup, summary, write_npy, write_record)
+from fricstab.cli.packing_common import (MAKE_KEYS, MODES_MAX_PARTICLES, dry_run,
+                                         friction_record, meta, public, rel, setup, summary,
+                                         write_npy, write_record)
 from fricstab.io.files import atomic_write
 from fricstab.io.results import write_json
 
@@ -19,7 +20,6 @@ __all__ = ["TOLERANCE", "rigidity"]
 
 TOLERANCE = 0.01             # theory vs step strain, relative to |G|
 EXIT_DISAGREE = 3
-MODES_MAX_PARTICLES = 1100   # --modes default: on up to this backbone size
 
 RECIPE = [
     "J = scipy.sparse.load_npz('jacobian_tilde.npz'); xi = np.load('xi.npy'); "
