@@ -31,6 +31,7 @@ OK_CODES = {0, 2, 3, 4}
 
 COMMANDS = [["chain", "ramp"], ["chain", "jacobian"], ["chain", "dynamics"], ["chain", "waves"],
             ["packing", "make"], ["packing", "rigidity"], ["packing", "dos"],
+            ["packing", "jacobian"],
             ["shear", "run"], ["shear", "analyze"], ["shear", "export"], ["shear"],
             ["scene", "show"], ["scene", "list"], ["laws"], ["verify"], ["chain"], [],
             ["frobnicate"], ["packing", "melt"]]
@@ -39,6 +40,7 @@ OPTIONS = ["--n", "--fy", "--mu", "--inertia", "--step", "--fx", "--fx-max", "--
            "--realizations", "--slide-threshold", "--scheduler", "--workers", "--phi",
            "--dphi", "--f-tol", "--kt", "--dgamma", "--z-th", "--route", "--bins", "--modes",
            "--packing", "--force", "--resume", "--quiet", "--cases", "--law", "--frobnicate",
+           "--param",
            "--help", "-h", "--version", "--debug", "--",
            "--mu-s", "--mu-r", "--strain", "--inertial-number", "--kappa", "--gamma0",
            "--dt-frac", "--preset", "--format", "--every", "--no-spectra"]
@@ -48,6 +50,8 @@ texts = st.one_of(
                      "1e-320", "nan", "inf", "-inf", "NaN", "9" * 40, "-" + "9" * 40, "",
                      "x", "0x10", "1,2", "1e", "xyz", "dump", "local", "inline",
                      "tcp://127.0.0.1:1", "auto", "dense", "charan", "all", "chain",
+                     "hertz", "ishima", "lee_hurley", "kt=0.5", "kn=-1", "mu=nan", "E=1",
+                     "kt", "=1", "nu=0.5",
                      "packing", "shear", "\u00e9\u00e8", "\x00", "--out"]),
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
     st.integers(min_value=-10 ** 30, max_value=10 ** 30).map(str),

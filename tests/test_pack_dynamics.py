@@ -1,12 +1,20 @@
-"""DEM of a frictional periodic packing (fricstab.protocols.pack_dynamics): invariants, no timings."""
+"""Newtonian dynamics of a frictional periodic packing: ``fricstab.engine.run`` on a packing System.
+
+Invariants, no timings: the forces are the verified law's, momentum is
+conserved, neighbour-list rebuilds do not change the trajectory, the energy
+error of velocity Verlet is second order.
+"""
 
 import numpy as np
 import pytest
 
-from fricstab.protocols import pack_dynamics as pdyn
+from fricstab.analysis.packing_energy import energy
+from fricstab.engine import run
 from fricstab.laws import ParameterError
-from fricstab.scenes.pack_system import Network, assemble, carry_history, network
 from fricstab.scenes.packing import make_packing
+from fricstab.scenes.packing_friction import material, packing_system
+
+from tests.system_proof import reference_forces
 
 EPS = np.finfo(float).eps
 
@@ -16,49 +24,48 @@ def packing():
     return make_packing(32, 0.9, 3)
 
 
-def _start(p, kt=1.0, amp=1e-3, seed=1, skin=pdyn.SKIN):
-    v = np.random.default_rng(seed).normal(size=(p.n, 3)) * amp
-    return pdyn.init_state(p.pos, p.radius, p.box, kt, v, skin=skin)
+def _start(p, kt=1.0, amp=1e-3, seed=1, skin=0.1):
+    system = packing_system(p, material("ishima", kt=kt), skin=skin)
+    state = system.state(p.pos)
+    state.v[:] = np.random.default_rng(seed).normal(size=(p.n, 3)) * amp  # (v_x, v_y, v_l)
+    return system, state
 
 
-def test_forces_are_the_verified_assembly(packing):
-    s = _start(packing)
-    pdyn.run(s, 0.02, 300)
-    net = network(s.q[:, :2] % packing.box, packing.radius, packing.box)
-    hist = carry_history(s.pairs[:, :2], s.hist, net.pairs, packing.n)
-    assert np.abs(hist).max() > 0  # the history did build up
-    ref, _ = assemble(Network(net.pairs, net.sep, hist), packing.radius, 1.0)
-    f = pdyn.forces(s)
-    # Same kernel and inputs; only the summation order and the wrap of the
-    # positions (ulp(L) ~ 1e-15) differ: a few eps of the largest contact force.
+def test_forces_are_the_verified_law(packing):
+    system, state = _start(packing)
+    run(system, state, 0.02, 300)
+    assert np.abs(state.contacts.hist).max() > 0  # the history did build up
+    ref = reference_forces(system, state)
+    f = system.forces(state)
+    # Same scalar kernels and inputs (the reference calls <law>_force contact by
+    # contact); only the summation order differs: a few eps of the largest force.
     assert np.abs(f - ref).max() <= 100 * EPS * np.abs(ref).max()
 
 
 def test_momentum_is_conserved(packing):
-    s = _start(packing)
-    p0 = (s.mass[:, None] * s.v[:, :2]).sum(axis=0)
-    pdyn.run(s, 0.02, 500)
-    p1 = (s.mass[:, None] * s.v[:, :2]).sum(axis=0)
+    system, state = _start(packing)
+    p0 = (system.mass[:, None] * state.v[:, :2]).sum(axis=0)
+    run(system, state, 0.02, 500)
+    p1 = (system.mass[:, None] * state.v[:, :2]).sum(axis=0)
     # Pair forces cancel exactly in each pair (f_j = -f_i in the kernel), so the
     # momentum changes only by round-off of the velocity updates: 500 steps of
     # N eps |m v| each, far below 1e-12.
-    net_force = pdyn.forces(s)[:, :2].sum(axis=0)
-    assert np.abs(net_force).max() < 1e3 * EPS * np.abs(s.force).max(), net_force
+    f = system.forces(state)
+    assert np.abs(f[:, :2].sum(axis=0)).max() < 1e3 * EPS * np.abs(f).max()
     assert np.abs(p1 - p0).max() < 1e-12
 
 
 def test_rebuilds_do_not_change_the_trajectory(packing):
     # A small skin forces many neighbour-list rebuilds (with history carried
-    # over); a large one none.  Same arithmetic per contact, so the runs agree
-    # to round-off amplified over the run (Lyapunov growth over t = 20 is mild
-    # at this amplitude): 1e-10 of the displacement scale.
-    a = _start(packing, amp=2e-2, skin=0.02)
-    b = _start(packing, amp=2e-2, skin=0.6)
-    ra = pdyn.run(a, 0.02, 1000)
-    rb = pdyn.run(b, 0.02, 1000)
-    assert ra.rebuilds > 3 and rb.rebuilds == 0
-    d = (a.q[:, :2] - b.q[:, :2] + packing.box / 2) % packing.box - packing.box / 2
-    assert np.abs(d).max() < 1e-10
+    # over by key); a large one none.  The engine sums the contacts in key
+    # order, the same touching contacts either way, so the runs agree to
+    # round-off amplified over the run: 1e-10 of the displacement scale.
+    sa, a = _start(packing, amp=2e-2, skin=0.02)
+    sb, b = _start(packing, amp=2e-2, skin=0.6)
+    run(sa, a, 0.02, 1000)
+    run(sb, b, 0.02, 1000)
+    assert a.rebuilds > 3 and b.rebuilds == 0
+    assert np.abs(a.q - b.q).max() < 1e-10
     assert np.abs(a.v - b.v).max() < 1e-10
 
 
@@ -69,24 +76,16 @@ def test_energy_error_is_second_order_in_dt(packing):
     # difference by 4, up to O(dt^2) corrections and the reference's own
     # error (dt_ref / dt)^2 <= 1/16: the ratio lies in [3, 5.5].
     def e_end(dt):
-        s = _start(packing, kt=1e-4)
-        pdyn.run(s, dt, int(round(20 / dt)))
-        return pdyn.energy(s)
+        system, state = _start(packing, kt=1e-4)
+        run(system, state, dt, int(round(20 / dt)))
+        return energy(system, state)
 
     ref = e_end(0.025)
     err = [abs(e_end(dt) - ref) for dt in (0.4, 0.2, 0.1)]
     assert 3.0 < err[0] / err[1] < 5.5 and 3.0 < err[1] / err[2] < 5.5, err
 
 
-@pytest.mark.parametrize("kw, key", [({"kt": 0.0}, "kt"), ({"box": 1.0}, "box"),
-                                     ({"skin": -1.0}, "skin")])
-def test_bad_input(packing, kw, key):
-    args = {"kt": 1.0, "box": packing.box, "skin": 0.1} | kw
-    with pytest.raises(ParameterError, match=key):
-        pdyn.init_state(packing.pos, packing.radius, args["box"], args["kt"], skin=args["skin"])
-
-
-def test_bad_time_step(packing):
-    s = _start(packing)
-    with pytest.raises(ParameterError, match="dt"):
-        pdyn.run(s, -0.1, 10)
+def test_energy_needs_a_law_with_an_energy(packing):
+    system = packing_system(packing, material("charan"))
+    with pytest.raises(ParameterError, match="charan has no energy"):
+        energy(system, system.state(packing.pos))

@@ -1,4 +1,4 @@
-"""``fricstab packing make|rigidity|dos`` end to end, on one small packing."""
+"""``fricstab packing make|rigidity|dos|jacobian`` end to end, on one small packing, any law."""
 
 import dataclasses
 import json
@@ -44,7 +44,9 @@ def test_make_writes_packing_json_and_figure(made):
     assert (made / "packing.png").read_bytes()[:8] == PNG
     doc = json.loads((made / "packing.json").read_text())
     assert doc["parameters"] == {"n": N, "phi": PHI, "seed": 0, "dphi": 1e-3, "f_tol": 1e-14,
-                                 "f_tol_compress": 1e-6, "z_th": 2}
+                                 "f_tol_compress": 1e-6, "z_th": 2, "law": "ishima",
+                                 "law_params": {"kn": 1.0, "kt": 1.0}, "wall_params": {}}
+    assert doc["law"] == "ishima" and doc["friction"]["max_force"] < 1e-14
     assert doc["info"]["max_force"] < 1e-14
     assert doc["contacts"] > N and doc["z_th"] == 2
     assert doc["rattlers"] + doc["n_backbone"] == N
@@ -186,6 +188,16 @@ def _scene(tmp_path, text):
     ("rigidity", ["--packing", "MISSING"], "--packing"),
     ("dos", ["--packing", "MADE", "--n", "64"], "--packing"),
     ("make", ["--scene", "MISSING.toml"], "--scene"),
+    ("make", ["--law", "coulomb"], "--law"),
+    ("jacobian", ["--law", "coulomb"], "--law"),
+    ("jacobian", ["--param", "kt=-1"], "--param kt"),
+    ("jacobian", ["--param", "mu=0.5"], "--param mu"),
+    ("jacobian", ["--law", "lee_hurley", "--param", "nu=0.5"], "--param nu"),
+    ("jacobian", ["--param", "kt"], "KEY=VALUE"),
+    ("jacobian", ["--packing", "MISSING"], "--packing"),
+    ("rigidity", ["--law", "hertz", "--kt", "1"], "has no kt"),
+    ("dos", ["--kt", "1", "--param", "kt=2"], "--kt"),
+    ("dos", "scene:law = 'lee_hurley'\nkt = 1\n", "kt"),
 ])
 def test_bad_input_is_one_line_naming_the_parameter(cmd, extra, name, made, tmp_path, capsys):
     if isinstance(extra, str):
@@ -198,6 +210,57 @@ def test_bad_input_is_one_line_naming_the_parameter(cmd, extra, name, made, tmp_
     assert err.count("\n") == 1 and "Traceback" not in err
     assert err.startswith("fricstab: error:") and name in err
     assert not out.exists()                      # nothing is made for bad input
+
+
+@pytest.mark.parametrize("law, ndof", [("hertz", 2), ("ishima", 3), ("charan", 3),
+                                       ("lee_hurley", 3)])
+def test_jacobian_of_every_law(made, tmp_path, capsys, law, ndof):
+    """`packing jacobian --law NAME`: the common export, friction switched on and balanced.
+
+    Checks from the files alone: the translations are zero modes of K (each row
+    sums O(z) terms of size max|K|: 32 eps relative) and the recorded residual
+    is below the force threshold.
+    """
+    from fricstab.io.jacobian_export import read_state
+    out = tmp_path / law
+    _ok(["packing", "jacobian", "--packing", str(made), "--law", law, "--out", str(out)], capsys)
+    for name in ("state.npz", "jacobian.npz", "dofs.json", "mass.npy", "jacobian.json"):
+        assert (out / name).is_file()
+    k = sps.load_npz(out / "jacobian.npz")
+    dofs = json.loads((out / "dofs.json").read_text())
+    st = read_state(out / "state.npz")
+    n = len(st["radius"])
+    assert st["law"] == law and dofs["dof_per_particle"] == ndof and k.shape == (n * ndof,) * 2
+    assert np.load(out / "mass.npy").shape == (n * ndof,) and len(st["keep"]) == n
+    e = np.zeros((n * ndof, 2))
+    e[0::ndof, 0] = e[1::ndof, 1] = 1.0
+    assert np.abs(k @ e).max() <= 32 * np.finfo(float).eps * abs(k).max()
+    assert dofs["max_abs_force_on_free_dof"] < 1e-14 and not st["history"].any()
+    doc = json.loads((out / "jacobian.json").read_text())
+    assert doc["law"] == law and doc["friction"]["relaxed"] == (law == "lee_hurley")
+
+
+def test_law_options_and_kt_scan(made, tmp_path, capsys):
+    """--param kt replaces the default scan; --kt 0 is the frictionless hertz; one run of a
+    law without kt; the folders are named after the runs."""
+    out = tmp_path / "runs"
+    _ok(["packing", "dos", "--packing", str(made), "--law", "charan", "--param", "kt=0.5",
+         "--param", "mu=2", "--bins", "5", "--out", str(out)], capsys)
+    doc = json.loads((out / "dos.json").read_text())
+    assert [r["kt"] for r in doc["results"]] == [0.5]
+    assert doc["results"][0]["law_params"] == {"kn": 1.0, "kt": 0.5, "mu": 2.0}
+    _ok(["packing", "rigidity", "--packing", str(made), "--law", "lee_hurley", "--no-modes",
+         "--out", str(out)], capsys)
+    doc = json.loads((out / "rigidity.json").read_text())
+    (r,) = doc["results"]
+    assert r["folder"] == "lee_hurley" and r["kt"] is None and r["ndof"] == 3
+    assert r["relative_differences"]["solve_vs_step"] < 1e-4
+    assert (out / "lee_hurley" / "g.json").is_file()
+    dry = _ok(["packing", "rigidity", "--packing", str(made), "--kt", "0", "1", "--dry-run",
+               "--out", str(tmp_path / "dry")], capsys).out
+    runs = json.loads(dry)["runs"]
+    assert [(r["law"], r["ndof"]) for r in runs] == [("hertz", 2), ("ishima", 3)]
+    assert not (tmp_path / "dry").exists()
 
 
 def test_scene_errors_say_what_is_allowed(tmp_path, capsys):

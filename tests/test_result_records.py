@@ -1,7 +1,7 @@
 """Every protocol writes ``result.json`` with versions, seed, parameters and timings.
 
 One tiny run of each protocol of each scene (chain ramp, jacobian, dynamics,
-waves; packing make, rigidity, dos; shear run, analyze), all into one output
+waves; packing make, rigidity, dos, jacobian; shear run, analyze), all into one output
 folder per scene, then the index ``result.json`` of each folder is read back.
 """
 
@@ -19,13 +19,14 @@ RUNS = {
                "--duration", "5", "--scheduler", "inline"]],
     "packing": [["packing", "make", "--n", "32", "--phi", "0.88", "--seed", "1"],
                 ["packing", "rigidity", "--packing", "{out}", "--kt", "1"],
-                ["packing", "dos", "--packing", "{out}", "--kt", "1", "--bins", "10"]],
+                ["packing", "dos", "--packing", "{out}", "--kt", "1", "--bins", "10"],
+                ["packing", "jacobian", "--packing", "{out}", "--law", "lee_hurley"]],
     "shear": [["shear", "run", "--n", "40", "--strain", "0.002", "--dgamma", "1e-4",
                "--gamma0", "0"],
               ["shear", "analyze", "--no-spectra"]],
 }
 PROTOCOLS = {"chain": ["dynamics", "jacobian", "ramp", "waves"],
-             "packing": ["dos", "packing", "rigidity"], "shear": ["analysis", "shear"]}
+             "packing": ["dos", "jacobian", "packing", "rigidity"], "shear": ["analysis", "shear"]}
 
 
 @pytest.mark.parametrize("scene", sorted(RUNS))

@@ -40,12 +40,12 @@ def test_unknown_key_and_scene():
 
 
 def test_floats_and_checks():
-    p = validate("packing", {"kt": [0, 1e-4], "n": 32})
-    assert p["kt"] == [0.0, 1e-4]
-    assert validate("packing", {"kt": 2})["kt"] == [2.0]
+    p = validate("packing", {"kt_scan": [0, 1e-4], "n": 32})
+    assert p["kt_scan"] == [0.0, 1e-4]
+    assert validate("packing", {"kt_scan": 2})["kt_scan"] == [2.0]
     for bad in ([], [1, -2], [1, "x"], [[1]]):
-        with pytest.raises(ParameterError, match="'kt'"):
-            validate("packing", {"kt": bad})
+        with pytest.raises(ParameterError, match="'kt_scan'"):
+            validate("packing", {"kt_scan": bad})
     with pytest.raises(ParameterError, match="even"):
         validate("packing", {"n": 33})
 

@@ -31,19 +31,18 @@ sys.path.insert(0, str(HERE))
 
 import numpy as np  # noqa: E402
 
-from _packings import packing  # noqa: E402
+from _packings import ishima, packing  # noqa: E402
 from fricstab.analysis.dos import (binned_mean, dos, log_bins, participation,  # noqa: E402
-                          rotational_peak, spectrum)
-from fricstab.scenes.pack_system import (Backbone, Network, assemble, backbone,  # noqa: E402
-                                  sparse_jacobian)
+                                   rotational_peak, spectrum)
 from fricstab.analysis.rigidity import linear_response  # noqa: E402
+from fricstab.scenes.packing_friction import Backbone, backbone  # noqa: E402
 
 KTS = (1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1.0, 10.0)
 
 
 def modes(bb, kt, route="symmetric"):
     """omega (translations dropped), psi^T, psi^R, p, and the spectrum."""
-    jac, *_ = linear_response(bb, kt)
+    jac = linear_response(*ishima(bb, kt)).jacobian
     sp = spectrum(jac, route=route)
     k = 3 if kt > 0 else 2
     psi_t, psi_r, p = participation(sp.right, k)
@@ -60,7 +59,7 @@ def route_comparison(bb, lines, n_total):
               "|---|---|---|---|---|---|---|---|"]
     out = []
     for kt in (1e-8, 1.0):
-        jac, *_ = linear_response(bb, kt)
+        jac = linear_response(*ishima(bb, kt)).jacobian
         d = spectrum(jac, route="dense")
         s = spectrum(jac, route="symmetric")
         wd = np.sort(d.eigenvalues.real)
@@ -186,7 +185,7 @@ def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
 def with_rattlers(pk, kt):
     """Spectrum of the whole packing (rattlers kept) with the zero modes dropped."""
     bb = Backbone(pk.pos, pk.diameter / 2, pk.box, np.arange(pk.n), pk.n, 0.0)
-    jac, *_ = linear_response(bb, kt)
+    jac = linear_response(*ishima(bb, kt)).jacobian
     w = spectrum(jac, route="symmetric", vectors=False).eigenvalues
     w = w[np.abs(w) > 1e-12 * np.abs(w).max()]
     return np.sqrt(np.clip(w, 0, None))
@@ -194,16 +193,13 @@ def with_rattlers(pk, kt):
 
 def effective_hessian(bb, kt):
     """J of a state with history (after a 1e-4 step strain) and H_eff (history set to 0)."""
-    from fricstab.protocols.stepstrain import relax
-    pos = bb.pos.copy()
-    pos[:, 0] += 1e-4 * pos[:, 1]
-    ref = relax(bb.pos, np.zeros(bb.n), bb.radius, bb.box, kt)
-    out = relax(pos, np.zeros(bb.n), bb.radius, bb.box, kt, 1e-4 * bb.box, ref.net)
-    _, blocks = assemble(out.net, bb.radius, kt)
-    jac = sparse_jacobian(out.net.pairs, blocks, bb.n, kt)
-    net0 = Network(out.net.pairs, out.net.sep, np.zeros_like(out.net.hist))
-    _, blocks0 = assemble(net0, bb.radius, kt)
-    h = sparse_jacobian(net0.pairs, blocks0, bb.n, kt)
+    from fricstab.protocols.stepstrain import strain
+    system, state = ishima(bb, kt)
+    out, _ = strain(system, state, 1e-4)
+    jac = linear_response(system, out).jacobian
+    zero = out.copy()
+    zero.contacts.hist[:] = 0.0
+    h = linear_response(system, zero).jacobian
     wj = spectrum(jac, route="dense", vectors=False).eigenvalues
     wh = spectrum(h, route="symmetric", vectors=False).eigenvalues
     wj, wh = np.sort(wj.real), np.sort(wh.real)
@@ -211,7 +207,7 @@ def effective_hessian(bb, kt):
     nzh = np.sort(np.argsort(np.abs(wh))[2:])
     rel = np.max(np.abs(wj[nzj] - wh[nzh]) / np.abs(wh[nzh]))
     return (np.sqrt(np.clip(wj[nzj], 0, None)), np.sqrt(np.clip(wh[nzh], 0, None)), rel,
-            float(np.abs(out.net.hist).max()))
+            float(np.abs(out.contacts.hist).max()))
 
 
 def main(argv=None):

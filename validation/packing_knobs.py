@@ -20,19 +20,21 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
 
 import numpy as np  # noqa: E402
 
-from fricstab.scenes.pack_system import backbone  # noqa: E402
-from fricstab.scenes.packing import make_packing  # noqa: E402
+from _packings import ishima  # noqa: E402
 from fricstab.analysis.rigidity import rigidity  # noqa: E402
+from fricstab.scenes.packing import make_packing  # noqa: E402
+from fricstab.scenes.packing_friction import backbone  # noqa: E402
 
 N, PHI = 256, 0.90
 
 
 def _g(p):
     bb = backbone(p)
-    return rigidity(bb, 1e-4).g, rigidity(bb, 1.0).g
+    return rigidity(*ishima(bb, 1e-4)).g, rigidity(*ishima(bb, 1.0)).g
 
 
 def main(argv=None):

@@ -33,10 +33,14 @@ sys.path.insert(0, str(HERE))
 import numpy as np  # noqa: E402
 import scipy.optimize  # noqa: E402
 
-from _packings import packing  # noqa: E402
-from fricstab.scenes.pack_system import backbone  # noqa: E402
+from _packings import ishima, packing  # noqa: E402
 from fricstab.analysis.rigidity import ishima_flipped, rigidity, solve_nonaffine  # noqa: E402
 from fricstab.protocols.stepstrain import step_strain  # noqa: E402
+from fricstab.scenes.packing_friction import backbone  # noqa: E402
+
+
+def _g(bb, kt, **kw):
+    return rigidity(*ishima(bb, kt), **kw)
 
 KTS = (1e-4, 1.0, 10.0)
 SWEEP_KTS = (0.0, 1e-8, 1e-4, 1e-2, 1.0, 2.0, 10.0)
@@ -52,8 +56,9 @@ def agreement(n, seeds, lines, modes=True):
     for seed in seeds:
         bb = backbone(packing(n, 0.90, seed))
         for kt in KTS:
-            r = rigidity(bb, kt, modes=modes, route="symmetric")
-            s = step_strain(bb, kt, 1e-6)
+            system, state = ishima(bb, kt)
+            r = rigidity(system, state, modes=modes, route="symmetric")
+            s = step_strain(system, state, 1e-6)
             u, _ = solve_nonaffine(ishima_flipped(r.jacobian), r.xi, bb.n, 3)
             g_fl = r.g_a - r.theta @ u / bb.box**2
             d_modes = r.g_modes / r.g - 1 if modes else float("nan")
@@ -74,10 +79,10 @@ def dgamma_independence(n, seed, lines):
               "| kT/kN | G (solve) | g(1e-6)/G - 1 | g(1e-5)/G - 1 | g(1e-4)/G - 1 | "
               "contacts changed at 1e-4 |", "|---|---|---|---|---|---|"]
     for kt in KTS:
-        g = rigidity(bb, kt).g
+        g = _g(bb, kt).g
         row = [f"{kt:g}", f"{g:.8g}"]
         for dg in (1e-6, 1e-5, 1e-4):
-            s = step_strain(bb, kt, dg)
+            s = step_strain(*ishima(bb, kt), dg)
             row.append(f"{s.g / g - 1:+.1e}")
         row.append(str(s.contacts_changed))
         lines.append("| " + " | ".join(row) + " |")
@@ -87,7 +92,7 @@ def dgamma_independence(n, seed, lines):
 
 def gna_root(bb):
     """kT/kN where G_NA changes sign (bisection in log10 kT between 1e-2 and 10)."""
-    f = lambda lk: rigidity(bb, 10.0 ** lk).g_na_solve  # noqa: E731
+    f = lambda lk: _g(bb, 10.0 ** lk).g_na_solve  # noqa: E731
     lo, hi = -2.0, 1.0
     if f(lo) * f(hi) > 0:
         return float("nan")
@@ -108,7 +113,7 @@ def sweeps(n, seeds, phis, lines):
         for a, seed in enumerate(seeds):
             bb = backbone(packing(n, phi, seed))
             for b, kt in enumerate(SWEEP_KTS):
-                r = rigidity(bb, kt)
+                r = _g(bb, kt)
                 gs[a, b], gna[a, b] = r.g, r.g_na_solve
             rts.append(gna_root(bb))
         table[phi] = (gs.mean(0), gna.mean(0), gs.std(0) / np.sqrt(len(seeds)))
@@ -126,8 +131,8 @@ def sweeps(n, seeds, phis, lines):
 def kt_curve(n, seed, phi=0.90):
     bb = backbone(packing(n, phi, seed))
     kts = np.logspace(-10, 1, 23)
-    g0 = rigidity(bb, 0.0).g
-    return kts, np.array([rigidity(bb, k).g for k in kts]), g0
+    g0 = _g(bb, 0.0).g
+    return kts, np.array([_g(bb, k).g for k in kts]), g0
 
 
 def figure(table, curve, path):
@@ -186,7 +191,7 @@ def main(argv=None):
         rows = []
         for kt in KTS:
             t1 = time.perf_counter()
-            r = rigidity(bb, kt)
+            r = _g(bb, kt)
             rows.append(f"| {kt:g} | {r.g:.8g} | {time.perf_counter() - t1:.2f} |")
         lines += ["## N = 4096 by sparse solve", "",
                   f"Backbone {bb.n} of 4096 particles ({time.perf_counter() - t0:.1f} s in all).",

@@ -12,10 +12,10 @@ import pytest
 import scipy.optimize
 
 from fricstab.analysis.dos import dos, log_bins, participation, rotational_peak, spectrum
-from fricstab.scenes.pack_system import backbone
-from fricstab.scenes.packing import make_packing
 from fricstab.analysis.rigidity import linear_response, rigidity
 from fricstab.protocols.stepstrain import step_strain
+from fricstab.scenes.packing import make_packing
+from fricstab.scenes.packing_friction import backbone, frictional, material, with_kt
 
 
 @pytest.fixture(scope="module")
@@ -23,9 +23,20 @@ def bb256():
     return backbone(make_packing(256, 0.90, seed=0))
 
 
+def _ishima(bb, kt):
+    """Ishima's law at kT/kN = kt on the backbone, friction switched on (App. A.2)."""
+    fr = frictional(bb, with_kt(material("ishima"), kt))
+    return fr.system, fr.state
+
+
+def _g(bb, kt):
+    return rigidity(*_ishima(bb, kt))
+
+
 def _three_routes(bb, kt):
-    r = rigidity(bb, kt, modes=True)
-    s = step_strain(bb, kt, dgamma=1e-6)
+    system, state = _ishima(bb, kt)
+    r = rigidity(system, state, modes=True)
+    s = step_strain(system, state, dgamma=1e-6)
     return r, s
 
 
@@ -50,8 +61,8 @@ def test_g_na_changes_sign_near_two(bb256):
     validation/packing_rigidity.md is 1.75-2.9 at N = 256, so [1, 4] is the
     tolerance for one sample.
     """
-    assert rigidity(bb256, 1.0).g_na_solve < 0 < rigidity(bb256, 10.0).g_na_solve
-    root = 10 ** scipy.optimize.brentq(lambda lk: rigidity(bb256, 10 ** lk).g_na_solve,
+    assert _g(bb256, 1.0).g_na_solve < 0 < _g(bb256, 10.0).g_na_solve
+    root = 10 ** scipy.optimize.brentq(lambda lk: _g(bb256, 10 ** lk).g_na_solve,
                                        0.0, 1.0, xtol=1e-4)
     assert 1.0 < root < 4.0
 
@@ -67,7 +78,7 @@ def test_rotational_band_scales_as_sqrt_kt(bb256):
     kts = np.array([1e-8, 1e-6, 1e-4, 1e-2])
     med = []
     for kt in kts:
-        jac, *_ = linear_response(bb256, kt)
+        jac = linear_response(*_ishima(bb256, kt)).jacobian
         sp = spectrum(jac)
         _, psi_r, _ = participation(sp.right, 3)
         med.append(rotational_peak(sp.omega[2:], psi_r[2:])[1])
@@ -83,7 +94,7 @@ def test_symmetric_route_matches_dense(bb256):
     nonzero eigenvalue is ~ eps max/min (measured 1e-13 at kT/kN = 1); the DOS
     histograms on 50 log bins must coincide.
     """
-    jac, *_ = linear_response(bb256, 1.0)
+    jac = linear_response(*_ishima(bb256, 1.0)).jacobian
     d = spectrum(jac, route="dense", vectors=False)
     s = spectrum(jac, route="symmetric", vectors=False)
     wd, ws = np.sort(d.eigenvalues.real), np.sort(s.eigenvalues.real)
@@ -104,3 +115,19 @@ def test_g_three_routes_agree_n1024(seed):
         r, s = _three_routes(bb, kt)
         assert abs(r.g_modes / r.g - 1) < 1e-8
         assert abs(s.g - r.g) <= s.error < 1e-2 * r.g
+
+
+def test_readme_example_runs_as_written(capsys):
+    """The README's worked example (validation/packing_example.py), executed as a script.
+
+    Its claims: Newton converges to the force threshold, and the histories of
+    the strained state make complex-conjugate pairs of M^-1 K (measured: 2 at
+    N = 128, phi = 0.86, seed 0; the count is discrete, the threshold 1e-10
+    of max|lambda| far below the pairs' |Im| ~ 1e-4 max|lambda|).
+    """
+    import runpy
+    from pathlib import Path
+    runpy.run_path(str(Path(__file__).with_name("packing_example.py")), run_name="__main__")
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) == 2 and "Newton iterations" in out[0]
+    assert "378 eigenvalues" in out[1] and " 2 complex-conjugate pairs" in out[1]

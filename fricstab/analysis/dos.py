@@ -1,7 +1,8 @@
 """Density of states and mode character of a packing's Jacobian (Ishima Sec. IV B).
 
-Eigenvalues ``lambda_n = omega_n^2`` of ``J`` (Eq. 21; ``J`` in the
-convention of :mod:`fricstab.scenes.pack_system`, units ``k_N d^(1/2)``, so
+Eigenvalues ``lambda_n = omega_n^2`` of ``J`` (Eq. 21; ``J`` in Ishima's
+convention, :func:`fricstab.analysis.rigidity.linear_response`: ``-dF/dq`` in
+``(x, y, l = R theta)`` whatever the law, units ``k_N d^(1/2)``, so
 ``omega t0 = sqrt(lambda)``), the DOS ``D(omega) = (1/3N) sum'_n delta(omega -
 omega_n)`` (Eq. 23; N counts all particles, rattlers included, and the sum
 excludes rattlers and the two translations), translational and rotational

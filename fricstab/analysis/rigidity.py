@@ -1,10 +1,22 @@
-"""Shear rigidity G = G_A + G_NA of a frictional packing from its Jacobian.
+"""Shear rigidity G = G_A + G_NA of a packing from its Jacobian, for any contact law.
 
-Ishima et al. (2023), Sec. III B and App. G, in their convention (see
-:mod:`fricstab.scenes.pack_system`): ``J = -dF/dq``, coordinates (x, y, l) per
-particle.  An affine step strain ``dgamma`` moves every contact's ``dx`` by
-``dgamma * y_ij`` at frozen history; the nonaffine rate ``u = dq/dgamma``
-then solves
+Ishima et al. (2023), Sec. III B and App. G, in their convention whatever the
+law: coordinates ``(x, y, l = R theta)`` per particle (``(x, y)`` for the
+frictionless ``hertz``), generalized forces ``(F_x, F_y, F^l = T/R)`` and
+``J = -dF/dq`` (Eq. 18).  The engine works in the law's own rotation
+coordinate ``r = s theta`` (:mod:`fricstab.engine.system`; ``s = R`` for
+``ishima``, 1 for ``charan`` and ``lee_hurley``); with ``c_i = R_i / s_i`` and
+``C = diag(1, 1, c_i)`` per particle, ``l = C r`` and
+
+    J = -C^-1 K C^-1,   Xi = C^-1 Xi_r,   Theta = C^-1 Theta_r,   u = C u_r,
+
+a congruence that leaves G unchanged (``Theta . u`` is invariant) and makes
+the spectra of different laws comparable (ishima and charan with the same
+``kt`` have the same J at zero history).
+
+An affine step strain ``dgamma`` moves every contact's ``dx`` by
+``dgamma * y_c`` at frozen history; the nonaffine rate ``u = dq/dgamma`` then
+solves
 
     J u = Xi,   Xi = dF/dgamma|_affine  (Eqs. 34-35, G14),
 
@@ -12,100 +24,116 @@ and, with the stress of Eq. 14,
 
     G_A  = -(1/L^2) sum_c y_c dF^x_c/dgamma|_affine       (Eqs. 40, 46),
     G_NA = -(1/L^2) Theta . u                              (Eqs. 41, 44),
-    Theta_k = -sum_c y_c J_c[x_i, k] + F^x_i delta_{k, y_i} (Eq. 45),
+    Theta_k = sum_c y_c K_c[x_i, k] + F^x_i delta_{k, y_i}  (Eq. 45),
 
-where the sum runs over contacts c = (i, j) with ``y_c = y_i - y_j`` and
-``J_c`` the contact's block (rows of particle i).
-
-The last term of Theta vanishes in force balance (App. G, Eq. G23); it is kept
-so that the formula is the exact strain derivative of Eq. 14.
+where the sum runs over contacts c = (i, j) with ``y_c`` the y component of
+``r_i - r_j`` (images included) and ``K_c`` the contact's block ``dF/dq``
+(engine, with the increment rule).  ``dF_c/dgamma|_affine`` is a complex step
+through the law's verified scalar force kernel (``LawInfo.force``, called by
+argument name, so it is generic over laws): exact to round-off, and through
+a Coulomb cap it follows the cap as the engine's blocks do.  The last term of
+Theta vanishes in force balance (App. G, Eq. G23); it is kept so that the
+formula is the exact strain derivative of Eq. 14.
 
 **The modified Jacobian.**  The paper replaces J by J~ with sign flips
 (Eqs. 36-37).  ``validation/errata.md`` shows from the paper's own Appendix G
 that the exact relation is ``J u = Xi`` with the Eq.-18 Jacobian, i.e.
-``J~ = J``; the flipped matrix of Eqs. 36-37 is available as
-:func:`ishima_flipped` so that the difference can be measured, and the tests
-show that only ``J~ = J`` matches step-strain simulation.
+``J~ = J``; the flipped matrix is :func:`ishima_flipped`, so that the
+difference can be measured.
 
-``J`` has the zero modes ``e_x``, ``e_y`` (App. C) on both sides
-(``e_x^T J = 0``: the total force does not depend on q).  The direct route
-solves the bordered system ``[J C; C^T 0] [u; mu] = [Xi; 0]`` with
-``C = (e_x, e_y)``, i.e. on the complement of the zero modes; the mode sum
-(Eq. 38, 44) excludes the same two modes.  Rattlers are removed before
-(:func:`fricstab.scenes.pack_system.backbone`).
-
-Conventions of the exported vectors: ``xi`` and ``theta`` here are Ishima's
-``|Xi>`` and ``<Theta|`` with ``J~ = J``, so that ``G_NA = -Theta . J^+ Xi / L^2``.
+``J`` has the zero modes ``e_x``, ``e_y`` (App. C) on both sides.  G_NA is
+computed by :func:`fricstab.engine.newton.bordered_solve` with those
+translations, i.e. on their complement; the mode sum (Eq. 38, 44) excludes
+the same two modes.  Rattlers are removed before
+(:func:`fricstab.scenes.packing_friction.backbone`).
 """
 
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sps
-import scipy.sparse.linalg as spla
 
 from fricstab.analysis.dos import spectrum
-from fricstab.scenes.pack_system import (affine_rates, assemble, contact_dofs, ndof, network,
-                                  sparse_jacobian)
+from fricstab.engine.jacobian import jacobian
+from fricstab.engine.newton import bordered_solve, translation_modes
+from fricstab.errors import ParameterError
+from fricstab.scenes.packing_relax import frozen_rates, separations
 
-__all__ = ["Rigidity", "ishima_flipped", "linear_response", "mode_sum", "rigidity",
-           "solve_nonaffine", "zero_modes"]
+__all__ = ["LinearResponse", "Rigidity", "affine_rates", "ishima_flipped", "ishima_scale",
+           "linear_response", "mode_sum", "rigidity", "solve_nonaffine",
+           "zero_modes"]
+
+def ishima_scale(system):
+    """``c_i = R_i / s_i``: Ishima's ``l = c r`` for the law's rotation coordinate ``r``."""
+    return system.radius / system.rscale
 
 
-@dataclass(frozen=True)
-class Rigidity:
-    """Linear-response rigidity of one backbone at one ``kt/kn``."""
-
-    kt: float
-    box: float
-    g_a: float
-    g_na_solve: float
-    g_na_modes: float = float("nan")
-    jacobian: object = None          # scipy.sparse CSR, J~ = J
-    xi: np.ndarray = None
-    theta: np.ndarray = None
-    u: np.ndarray = None             # nonaffine rate dq/dgamma (direct solve)
-    checks: dict = field(default_factory=dict)
-    seconds: dict = field(default_factory=dict)
-
-    @property
-    def g(self):
-        """G = G_A + G_NA (direct solve)."""
-        return self.g_a + self.g_na_solve
-
-    @property
-    def g_modes(self):
-        """G = G_A + G_NA (mode sum)."""
-        return self.g_a + self.g_na_modes
+def _dof_scale(system):
+    """``1 / c`` per Jacobian dof (1 on x and y), flat, particle by particle."""
+    d = np.ones((system.n, system.dof))
+    if system.dof == 3:
+        d[:, 2] = 1.0 / ishima_scale(system)
+    return d[system.free].ravel()
 
 
 def zero_modes(n, k):
-    """``e_x``, ``e_y`` (App. C, Eqs. C6, C8) as columns, normalized."""
-    c = np.zeros((n * k, 2))
-    c[0::k, 0] = 1.0
-    c[1::k, 1] = 1.0
-    return c / np.sqrt(n)
+    """``e_x``, ``e_y`` (App. C, Eqs. C6, C8) as unit columns (:func:`translation_modes`)."""
+    return translation_modes(n, k)
 
 
-def linear_response(bb, kt, net=None):
-    """``J``, ``Xi``, ``Theta``, ``G_A`` and force residual of backbone ``bb``."""
-    k = ndof(kt)
-    if net is None:
-        net = network(bb.pos, bb.radius, bb.box)
-    forces, blocks = assemble(net, bb.radius, kt)
-    jac = sparse_jacobian(net.pairs, blocks, bb.n, kt)
-    dofs = contact_dofs(net.pairs, k)
-    y = net.sep[:, 1]
-    rates = affine_rates(net, bb.radius, kt) * y[:, None]   # dF_c/dgamma, affine
-    xi = np.zeros(bb.n * k)
-    np.add.at(xi, dofs.ravel(), rates.ravel())
-    g_a = -(y * rates[:, 0]).sum() / bb.box**2
-    theta = np.zeros(bb.n * k)
-    # Theta_k = sum_c y_c K_c[x_i, k] + F^x_i delta_{k, y_i}, K_c = dF_c/dq = -J_c
-    np.add.at(theta, dofs.ravel(), (blocks[:, 0, :] * y[:, None]).ravel())
-    theta[1::k] += forces[:, 0]
-    return jac, xi, theta, g_a, forces
+def affine_rates(system, state):
+    """``dF_c / d(dx)`` at frozen history per contact, (K, 2 dof), the engine's coordinates.
+
+    An affine step strain moves ``dx`` of a contact by ``dgamma * y_c`` and
+    leaves its history unchanged (the step is instantaneous: Ishima Sec. III B);
+    so the affine force rate of contact c is this row times ``y_c``.  Complex
+    step through the law's verified scalar force kernel
+    (:func:`fricstab.scenes.packing_relax.frozen_rates`): exact to round-off.
+    """
+    return frozen_rates(system, state, axis=0)
+
+
+class LinearResponse(NamedTuple):
+    """``J`` (CSR, Ishima's convention), ``Xi``, ``Theta`` (flat), ``G_A``, forces (n, dof)."""
+
+    jacobian: object
+    xi: np.ndarray
+    theta: np.ndarray
+    g_a: float
+    forces: np.ndarray
+
+
+def linear_response(system, state):
+    """``J``, ``Xi``, ``Theta``, ``G_A`` and forces of a periodic state (module docstring).
+
+    Every particle must be free (a rattler-free backbone); the box is square
+    (``system.lx = system.ly = L``).
+    """
+    if not np.all(system.free):
+        raise ParameterError("linear_response: every particle must be free (a backbone)")
+    dof, box = system.dof, system.lx
+    f, blocks = system.forces(state, want_blocks=True)
+    k = jacobian(system, state)[1]
+    c = state.contacts
+    pair = c.j >= 0
+    y = np.where(pair, separations(system, state)[:, 1], 0.0)
+    rates = affine_rates(system, state) * y[:, None]      # dF_c/dgamma, affine
+    local = np.arange(dof)
+    dofs = np.concatenate([c.i[:, None] * dof + local, np.maximum(c.j, 0)[:, None] * dof + local],
+                          axis=1)
+    xi = np.zeros(system.n * dof)
+    np.add.at(xi, dofs[pair].ravel(), rates[pair].ravel())
+    g_a = -(y * rates[:, 0]).sum() / box**2
+    theta = np.zeros(system.n * dof)
+    # Theta_k = sum_c y_c K_c[x_i, k] + F^x_i delta_{k, y_i}
+    np.add.at(theta, dofs[pair].ravel(), (blocks[pair, 0, :] * y[pair, None]).ravel())
+    theta[1::dof] += f[:, 0]
+    d = _dof_scale(system)
+    jac = -(sps.diags(d) @ k @ sps.diags(d)).tocsr()
+    forces = f[:, :dof] * d.reshape(-1, dof)
+    return LinearResponse(jac, xi * d, theta * d, float(g_a), forces)
 
 
 def solve_nonaffine(jac, xi, n, k):
@@ -115,10 +143,7 @@ def solve_nonaffine(jac, xi, n, k):
     along the left zero modes (zero up to round-off: the total force of an
     affine strain vanishes).
     """
-    c = zero_modes(n, k)
-    a = sps.bmat([[jac, sps.csr_matrix(c)], [sps.csr_matrix(c.T), None]], format="csc")
-    sol = spla.spsolve(a, np.concatenate([xi, np.zeros(2)]))
-    return sol[:-2], sol[-2:]
+    return bordered_solve(jac, xi, translation_modes(n, k))
 
 
 def ishima_flipped(jac, k=3):
@@ -157,27 +182,60 @@ def mode_sum(jac, xi, theta, box, k, route="auto", n_zero=2):
                   "eigenvalues": np.sort(np.real(w))}
 
 
-def rigidity(bb, kt, modes=False, route="auto"):
-    """G_A and G_NA of backbone ``bb`` at ``kt/kn`` by direct solve (and mode sum)."""
-    k = ndof(kt)
+@dataclass(frozen=True)
+class Rigidity:
+    """Linear-response rigidity of one state under one law (``law``, ``params``)."""
+
+    law: str
+    params: dict
+    box: float
+    g_a: float
+    g_na_solve: float
+    g_na_modes: float = float("nan")
+    jacobian: object = None          # scipy.sparse CSR, J~ = J, Ishima's coordinates
+    xi: np.ndarray = None
+    theta: np.ndarray = None
+    u: np.ndarray = None             # nonaffine rate dq/dgamma (direct solve)
+    checks: dict = field(default_factory=dict)
+    seconds: dict = field(default_factory=dict)
+
+    @property
+    def g(self):
+        """G = G_A + G_NA (direct solve)."""
+        return self.g_a + self.g_na_solve
+
+    @property
+    def g_modes(self):
+        """G = G_A + G_NA (mode sum)."""
+        return self.g_a + self.g_na_modes
+
+
+def rigidity(system, state, modes=False, route="auto"):
+    """G_A and G_NA of a force-balanced periodic state by direct solve (and mode sum).
+
+    ``system``, ``state``: a rattler-free backbone under any law
+    (:func:`fricstab.scenes.packing_friction.frictional`).
+    """
+    k, n, box = system.dof, system.n, system.lx
     t0 = time.perf_counter()
-    jac, xi, theta, g_a, forces = linear_response(bb, kt)
+    jac, xi, theta, g_a, forces = linear_response(system, state)
     t1 = time.perf_counter()
-    u, mult = solve_nonaffine(jac, xi, bb.n, k)
+    u, mult = solve_nonaffine(jac, xi, n, k)
     t2 = time.perf_counter()
-    g_na = -(theta @ u) / bb.box**2
-    c = zero_modes(bb.n, k)
+    g_na = -(theta @ u) / box**2
+    c = zero_modes(n, k)
     scale = abs(jac).max()
-    checks = {"zero_mode_residual": float(np.abs(jac @ c).max() * np.sqrt(bb.n) / scale),
-              "left_zero_mode_residual": float(np.abs(jac.T @ c).max() * np.sqrt(bb.n) / scale),
+    checks = {"zero_mode_residual": float(np.abs(jac @ c).max() * np.sqrt(n) / scale),
+              "left_zero_mode_residual": float(np.abs(jac.T @ c).max() * np.sqrt(n) / scale),
               "max_force": float(np.abs(forces).max()),
               "solve_residual": float(np.abs(jac @ u - xi).max() / np.abs(xi).max()),
               "multipliers": float(np.abs(mult).max())}
     seconds = {"assemble": t1 - t0, "solve": t2 - t1}
     g_na_modes = float("nan")
     if modes:
-        g_na_modes, info = mode_sum(jac, xi, theta, bb.box, k, route)
+        g_na_modes, info = mode_sum(jac, xi, theta, box, k, route)
         checks.update({f"modes_{key}": v for key, v in info.items() if key != "eigenvalues"})
         seconds["modes"] = info["seconds"]
-    return Rigidity(kt, bb.box, g_a, float(g_na), float(g_na_modes), jac, xi, theta, u,
-                    checks, seconds)
+    mat = system.material
+    return Rigidity(mat.law, dict(mat.params), box, float(g_a), float(g_na), float(g_na_modes),
+                    jac, xi, theta, u, checks, seconds)

@@ -12,7 +12,8 @@ import numpy as np
 __all__ = ["dos_figure", "packing_figure", "rigidity_figure"]
 
 
-def packing_figure(packing, net, force, rattler, path):
+def packing_figure(packing, pairs, sep, force, rattler, path):
+    """Disks to scale, rattlers grey, contacts ``pairs`` (M, 2) with ``sep = r_i - r_j`` (M, 2)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -34,16 +35,17 @@ def packing_figure(packing, net, force, rattler, path):
                                    ("#8fb8de" if packing.diameter[i] == 1 else "#f4b183"))
     ax.add_collection(PatchCollection(patches, facecolors=colours, edgecolors="0.3",
                                       linewidths=0.4))
-    if net.m:
-        i, j = net.pairs[:, 0], net.pairs[:, 1]
+    m = len(pairs)
+    if m:
+        i, j = pairs[:, 0], pairs[:, 1]
         a = packing.pos[i]
-        b = a - net.sep                       # the image of j touching i
+        b = a - sep                           # the image of j touching i
         segs = [np.stack([a, b], axis=1)]
         # The same contact seen from j's side, where it crosses the boundary.
         c = packing.pos[j]
         crossing = np.any(np.abs(b - c) > 1e-9 * box, axis=1)
-        segs.append(np.stack([c[crossing], (c + net.sep)[crossing]], axis=1))
-        width = 0.3 + 3.0 * force / force.max() if force.max() > 0 else np.full(net.m, 0.5)
+        segs.append(np.stack([c[crossing], (c + sep)[crossing]], axis=1))
+        width = 0.3 + 3.0 * force / force.max() if force.max() > 0 else np.full(m, 0.5)
         lines = LineCollection(np.concatenate(segs),
                                linewidths=np.concatenate([width, width[crossing]]),
                                colors="k")
@@ -55,7 +57,7 @@ def packing_figure(packing, net, force, rattler, path):
     ax.set_xlabel("x / d")
     ax.set_ylabel("y / d")
     ax.set_title(f"N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
-                 f"{net.m} contacts, {int(rattler.sum())} rattlers (grey)\n"
+                 f"{m} contacts, {int(rattler.sum())} rattlers (grey)\n"
                  "lines: contact forces, width ~ |f|")
     fig.tight_layout()
     fig.savefig(path, dpi=120, format="png")
@@ -68,8 +70,8 @@ def rigidity_figure(results, first, path):
     import matplotlib.pyplot as plt
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
-    pos = [e for e in results if e["kt"] > 0]
-    zero = [e for e in results if e["kt"] == 0]
+    pos = [e for e in results if e["kt"] is not None and e["kt"] > 0]
+    zero = [e for e in results if e["kt"] is None or e["kt"] == 0]
     series = (("g_a", "$G_A$", "C0", "o", "-"), ("g_na_solve", "$G_{NA}$", "C1", "s", "-"),
               ("g", "$G$ (solve)", "C2", "D", "-"), ("g_modes", "$G$ (modes)", "C3", "x", "none"),
               ("g_step", "$G$ (step strain)", "k", "+", "none"))
@@ -80,7 +82,8 @@ def rigidity_figure(results, first, path):
             a.plot(x, y, color=colour, marker=marker, ls=ls, label=label, ms=7)
         for e in zero:
             if e[key] is not None:
-                a.axhline(e[key], color=colour, ls=":", lw=0.8)
+                a.axhline(e[key], color=colour, ls=":", lw=0.8,
+                          label=None if pos or e is not zero[0] else label)
     if pos:
         a.errorbar([e["kt"] for e in pos], [e["g_step"] for e in pos],
                    yerr=[e["g_step_error"] for e in pos], fmt="none", ecolor="k", capsize=3)
@@ -88,9 +91,10 @@ def rigidity_figure(results, first, path):
     a.axhline(0, color="0.6", lw=0.5)
     a.set_xlabel("$k_T / k_N$")
     a.set_ylabel("rigidity ($k_N d^{1/2}$)")
-    a.set_title("(a) rigidity" + (" (dotted: $k_T = 0$)" if zero else ""))
+    a.set_title("(a) rigidity" + (" (dotted: " + ", ".join(
+        "$k_T = 0$" if e["kt"] == 0 else e["law"] for e in zero) + ")" if zero else ""))
     a.legend(fontsize=8)
-    kt, u, step = first
+    label, u, step = first
     k = u.shape[1]
     names = ("x", "y", "l")
     for c in range(k):
@@ -102,7 +106,7 @@ def rigidity_figure(results, first, path):
     b.set_aspect("equal")
     b.set_xlabel("nonaffine rate, theory ($u = J^{-1} \\Xi$)")
     b.set_ylabel("nonaffine rate, step strain")
-    b.set_title(f"(b) $k_T/k_N$ = {kt:g} (cf. Ishima Fig. 3c)")
+    b.set_title(f"(b) {label} (cf. Ishima Fig. 3c)")
     b.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110, format="png")
@@ -119,13 +123,13 @@ def dos_figure(spectra, edges, path):
     for i, s in enumerate(spectra):
         colour = f"C{i % 10}"
         d = np.where(s["dos"] > 0, s["dos"], np.nan)
-        a.plot(centres, d, "o-", color=colour, ms=3, label=f"$k_T/k_N$ = {s['kt']:g}")
+        a.plot(centres, d, "o-", color=colour, ms=3, label=s["label"])
         empty = np.histogram(s["omega"], bins=edges)[0] == 0
         b.plot(centres, np.where(empty, np.nan, s["psi_t_mean"]), ".-", color=colour, ms=3,
-               label=f"$\\psi^T$, {s['kt']:g}")
+               label=f"$\\psi^T$, {s['label']}")
         if s["k"] == 3:
             b.plot(centres, np.where(empty, np.nan, s["psi_r_mean"]), "x--", color=colour,
-                   ms=3, label=f"$\\psi^R$, {s['kt']:g}")
+                   ms=3, label=f"$\\psi^R$, {s['label']}")
     a.set_xscale("log")
     a.set_yscale("log")
     a.set_xlabel("$\\omega t_0$")

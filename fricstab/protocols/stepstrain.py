@@ -1,27 +1,38 @@
-"""Step-strain simulation of the rigidity (Ishima Eqs. 10-17), by Newton relaxation.
+"""Step-strain simulation of the rigidity (Ishima Eqs. 10-17), by Newton relaxation on the engine.
 
 An affine step ``x_i -> x_i + dgamma y_i`` with the Lees-Edwards offset
-``shift = dgamma L`` is applied at frozen tangential history (the step is
-instantaneous), then the backbone is relaxed to force balance
-``max |F~| < f_tol`` (paper: 1e-14 k_N d^(3/2)).  Relaxation is Newton on
-``F(q, t(q)) = 0`` with the verified Jacobian: each iterate solves
-``K dq = -F`` on the complement of the translations, advances every contact's
-history by the increment rule (Eq. D4) at the current configuration, and
-moves ``q``; contacts are recomputed at every iterate (new contacts start
-with zero history; lost ones are dropped, and both are counted).  The
-converged state is fixed by the forces, not by the Jacobian; the history
-path differs from the paper's damped dynamics by O(dgamma^2), below the
-step-strain truncation error O(dgamma).
+``shift -> shift + dgamma L`` is applied at frozen tangential history (the
+step is instantaneous), then the state is relaxed to force balance
+``max |F| < f_tol`` (paper: 1e-14 k_N d^(3/2)) by
+:func:`fricstab.engine.newton` with the bordered solver: each iterate solves
+``K dq = -F`` on the complement of the translations with the verified
+Jacobian, advances every contact's history by the increment rule at the
+current configuration, moves ``q`` and projects the histories (a Coulomb cap,
+for a law that has one).  The contact list follows the iterates (new contacts
+start with zero history; contacts gained and lost are counted against the
+reference).  The converged state is fixed by the forces, not by the Jacobian;
+the history path differs from the paper's damped dynamics by O(dgamma^2),
+below the step-strain truncation error O(dgamma).
+
+Any law of :mod:`fricstab.scenes.packing_friction`; the nonaffine
+displacements are reported in Ishima's coordinates ``(x, y, l = R theta)``
+(:mod:`fricstab.analysis.rigidity`).
 
 Results: the nonaffine displacements (Eqs. 10-11), the stress (Eq. 14) and
 ``g = (sigma(dgamma) - sigma(0)) / dgamma`` (Eq. 16).
 
-Error model of g (stated with each result): truncation ``|g(+dg) - g(-dg)|``,
-twice the O(dgamma) term that one extra step of opposite sign measures
-(``g(+-dg) = G +- c dg + O(dg^2)``; the factor 2 covers the O(dg^2) remainder
-while it is below the first-order term), plus round-off ``2 eps_sigma / dgamma``
-with ``eps_sigma = 4 eps sum_c |f^x_c y_c| / L^2 + f_tol sum_c |y_c| / L^2``
-(summation error of Eq. 14 and the stress of the residual forces).
+Error model of g (stated with each result): ``g(h) = G + a h + b |h| + O(h^2)``
+with ``g(-h) = (sigma(0) - sigma(-h)) / h``.  The analytic first-order term
+``a h`` is measured by one extra step of opposite sign, ``|g(+dg) - g(-dg)| =
+2 |a| dg``; the term ``b |h|``, even in the sign of the step, comes from a
+law that is C1 but not C2 at zero history (Charan's smoothed Coulomb law has
+``|t| t``, Eq. 5) and is measured by the mean of two more steps of twice the
+size, ``gbar(2 dg) - gbar(dg) = b dg`` with ``gbar(h) = (g(h) + g(-h)) / 2``.
+Truncation: ``|g(+dg) - g(-dg)| + 2 |gbar(2 dg) - gbar(dg)|`` (twice each
+first-order term: the factor 2 covers the O(dg^2) remainder while it is below
+them), plus round-off ``2 eps_sigma / dgamma`` with ``eps_sigma = 4 eps sum_c
+|f^x_c y_c| / L^2 + f_tol sum_c |y_c| / L^2`` (summation error of Eq. 14 and
+the stress of the residual forces; sums over the touching contacts).
 """
 
 import time
@@ -29,73 +40,44 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab.laws import ParameterError
-from fricstab.scenes.pack_system import (Network, assemble, history_increment, ndof, network,
-                                  shear_stress, sparse_jacobian)
-from fricstab.scenes.packing import ConvergenceError
-from fricstab.analysis.rigidity import solve_nonaffine
+from fricstab.analysis.rigidity import ishima_scale
+from fricstab.scenes.packing_relax import separations, singular_guard
+from fricstab.engine import newton
+from fricstab.engine.newton import touching
+from fricstab.errors import ConvergenceError, ParameterError
 
-__all__ = ["ConvergenceError", "Relaxed", "StepStrain", "relax", "step_strain"]
-
-
-@dataclass(frozen=True)
-class Relaxed:
-    """A force-balanced state of the backbone."""
-
-    pos: np.ndarray      # (n, 2), unwrapped
-    ell: np.ndarray      # (n,) rotational coordinate l = d theta / 2
-    net: Network
-    shift: float
-    residual: float
-    iterations: int
-    contacts_gained: int
-    contacts_lost: int
+__all__ = ["ConvergenceError", "StepStrain", "relax", "shear_stress", "step_strain", "strain"]
 
 
-def _wrap(pos, box, shift):
-    """Positions folded into the primary Lees-Edwards cell."""
-    k = np.floor(pos[:, 1] / box)
-    out = np.empty_like(pos)
-    out[:, 1] = pos[:, 1] - k * box
-    out[:, 0] = np.mod(pos[:, 0] - k * shift, box)
-    return out
+def shear_stress(system, state):
+    """``sigma_xy = -(1/L^2) sum_c f^x_c y_c`` (Ishima Eq. 14) and ``sum_c |f^x_c y_c| / L^2``."""
+    fc = system.contact_forces(state)
+    y = separations(system, state)[:, 1]
+    terms = np.where(state.contacts.j >= 0, fc[:, 0] * y, 0.0)
+    area = system.lx * system.ly
+    return -terms.sum() / area, np.abs(terms).sum() / area
 
 
-def relax(pos, ell, radius, box, kt, shift=0.0, net=None, f_tol=1e-14, max_iter=50):
-    """Newton relaxation to ``max |F~| < f_tol`` from ``(pos, ell)`` with histories of ``net``."""
-    k = ndof(kt)
-    n = len(radius)
-    pos, ell = pos.copy(), ell.copy()
-    gained = lost = 0
-    prev = net
-    for it in range(max_iter + 1):
-        net = network(_wrap(pos, box, shift), radius, box, shift, prev)
-        if prev is not None:
-            key_old = prev.pairs[:, 0] * n + prev.pairs[:, 1]
-            key_new = net.pairs[:, 0] * n + net.pairs[:, 1]
-            gained += len(np.setdiff1d(key_new, key_old))
-            lost += len(np.setdiff1d(key_old, key_new))
-        forces, blocks = assemble(net, radius, kt)
-        res = float(np.abs(forces).max()) if n else 0.0
-        if res < f_tol:
-            return Relaxed(pos, ell, net, shift, res, it, gained, lost)
-        if it == max_iter:
-            break
-        # K dq = -F, i.e. J dq = F, on the complement of the translations
-        dq, _ = solve_nonaffine(sparse_jacobian(net.pairs, blocks, n, kt), forces.ravel(), n, k)
-        if not np.all(np.isfinite(dq)):
-            raise ConvergenceError(f"Newton step is not finite at iteration {it} "
-                                   f"(residual {res:.3g}): singular Jacobian")
-        if kt > 0:
-            hist = net.hist + history_increment(net, radius, dq, k)
-            net = Network(net.pairs, net.sep, hist)
-        dq = dq.reshape(n, k)
-        pos += dq[:, :2]
-        if k == 3:
-            ell += dq[:, 2]
-        prev = net
-    raise ConvergenceError(f"Newton relaxation did not reach max|F| < {f_tol:g} in "
-                           f"{max_iter} iterations (residual {res:.3g})")
+def relax(system, state, f_tol=1e-14, max_iter=50):
+    """Newton (bordered solver) in place to ``max |F| < f_tol``; the NewtonResult.
+
+    Raises :class:`ConvergenceError` also when the sparse LU finds the
+    Jacobian singular (:func:`fricstab.scenes.packing_relax.singular_guard`).
+    """
+    with singular_guard("Newton relaxation"):
+        return newton(system, state, f_tol, max_iter=max_iter, solver="bordered")
+
+
+def strain(system, state, dgamma, f_tol=1e-14, max_iter=50):
+    """A copy of ``state`` after an affine step ``dgamma`` at frozen history, relaxed.
+
+    Returns ``(strained, result)``; ``result`` is the
+    :class:`~fricstab.engine.NewtonResult` of the relaxation.
+    """
+    s = state.copy()
+    s.q[:, 0] += dgamma * s.q[:, 1]
+    s.shift = state.shift + dgamma * system.ly
+    return s, relax(system, s, f_tol, max_iter)
 
 
 @dataclass(frozen=True)
@@ -105,42 +87,47 @@ class StepStrain:
     dgamma: float
     g: float                 # Eq. 16, forward step
     g_backward: float        # the same with -dgamma (for the error model)
+    g_double: float          # gbar(2 dgamma), the mean of +-2 dgamma (for the error model)
     error: float             # truncation + round-off estimate of |g - G|
     sigma0: float
-    nonaffine: np.ndarray    # (n, ndof) (Eqs. 10-11) divided by dgamma
+    nonaffine: np.ndarray    # (n, dof) (Eqs. 10-11) divided by dgamma, Ishima's coordinates
     iterations: int
     contacts_changed: int
     seconds: float
 
 
-def _strained(bb, kt, dgamma, ref, f_tol):
-    pos = ref.pos.copy()
-    pos[:, 0] += dgamma * ref.pos[:, 1]
-    shift = dgamma * bb.box
-    out = relax(pos, ref.ell, bb.radius, bb.box, kt, shift, ref.net, f_tol)
-    sigma, _ = shear_stress(out.net, bb.radius, kt, bb.box)
-    return out, sigma
+def step_strain(system, state, dgamma=1e-6, f_tol=1e-14):
+    """Rigidity ``g`` of a periodic state by step strain ``dgamma`` (and ``-dgamma``, ``+-2 dgamma``).
 
-
-def step_strain(bb, kt, dgamma=1e-6, f_tol=1e-14):
-    """Rigidity ``g`` of backbone ``bb`` by step strain ``dgamma`` (and ``-dgamma``)."""
+    ``state`` is the reference; it is relaxed first (on a copy) if its
+    residual is not below ``f_tol``.
+    """
     if not (np.isfinite(dgamma) and 0 < dgamma <= 0.1):
         raise ParameterError(f"dgamma must be in (0, 0.1], got {dgamma!r}")
     t0 = time.perf_counter()
-    k = ndof(kt)
-    ref = relax(bb.pos, np.zeros(bb.n), bb.radius, bb.box, kt, 0.0, None, f_tol)
-    sigma0, abs0 = shear_stress(ref.net, bb.radius, kt, bb.box)
-    fwd, s_f = _strained(bb, kt, dgamma, ref, f_tol)
-    bwd, s_b = _strained(bb, kt, -dgamma, ref, f_tol)
-    g_f = (s_f - sigma0) / dgamma
-    g_b = (sigma0 - s_b) / dgamma
-    eps_sigma = 4 * np.finfo(float).eps * abs0 + f_tol * np.abs(ref.net.sep[:, 1]).sum() / bb.box**2
-    error = abs(g_f - g_b) + 2 * eps_sigma / dgamma
-    nonaffine = np.zeros((bb.n, k))
-    nonaffine[:, :2] = (fwd.pos - ref.pos) / dgamma
-    nonaffine[:, 0] -= ref.pos[:, 1]
+    ref = state.copy()
+    relax(system, ref, f_tol)
+    before = touching(system, ref)
+    sigma0, abs0 = shear_stress(system, ref)
+    states, g, iterations = {}, {}, 0
+    for h in (dgamma, -dgamma, 2 * dgamma, -2 * dgamma):
+        states[h], res = strain(system, ref, h, f_tol)
+        g[h] = (shear_stress(system, states[h])[0] - sigma0) / h
+        iterations += res.iterations
+    fwd = states[dgamma]
+    g_f, g_b = g[dgamma], g[-dgamma]
+    g_double = (g[2 * dgamma] + g[-2 * dgamma]) / 2
+    keys = np.searchsorted(ref.keys, before)
+    y = separations(system, ref)[keys, 1]
+    area = system.lx * system.ly
+    eps_sigma = 4 * np.finfo(float).eps * abs0 + f_tol * np.abs(y).sum() / area
+    error = abs(g_f - g_b) + 2 * abs(g_double - (g_f + g_b) / 2) + 2 * eps_sigma / dgamma
+    k = system.dof
+    nonaffine = (fwd.q[:, :k] - ref.q[:, :k]) / dgamma
+    nonaffine[:, 0] -= ref.q[:, 1]
     if k == 3:
-        nonaffine[:, 2] = (fwd.ell - ref.ell) / dgamma
-    return StepStrain(dgamma, g_f, g_b, error, sigma0, nonaffine,
-                      fwd.iterations + bwd.iterations,
-                      fwd.contacts_gained + fwd.contacts_lost, time.perf_counter() - t0)
+        nonaffine[:, 2] *= ishima_scale(system)
+    after = touching(system, fwd)
+    changed = len(np.setdiff1d(after, before)) + len(np.setdiff1d(before, after))
+    return StepStrain(dgamma, g_f, g_b, g_double, error, sigma0, nonaffine, iterations, changed,
+                      time.perf_counter() - t0)

@@ -1,8 +1,8 @@
 """Eigen-solver routes for the packing Jacobian: time and error against the dense reference.
 
 Matrix: ``J = -dF/dq`` (Ishima Eq. 18) of the rattler-free backbone of a packing
-(phi = 0.9, seed 0), assembled by :func:`fricstab.scenes.pack_system.sparse_jacobian`
-with random tangential histories of size 1e-4 d (the scale a step strain of
+(phi = 0.9, seed 0), assembled by :func:`fricstab.engine.jacobian` (ishima law,
+kT/kN = 1) with random tangential histories of size 1e-4 d (the scale a step strain of
 1e-4 leaves), which makes ``J`` non-symmetric as in a sheared packing.
 3N = 768 (quick), 3072 and 12,288 (full; at 12,288 only ARPACK, judged by its
 residual, unless ``--huge`` adds the dense routes: about an hour on 2 cores,
@@ -35,7 +35,8 @@ import scipy.sparse.linalg as spla  # noqa: E402
 from _common import save_figure, write_table  # noqa: E402
 
 from fricstab.analysis.dos import spectrum  # noqa: E402
-from fricstab.scenes.pack_system import Network, assemble, backbone, network, sparse_jacobian  # noqa: E402
+from fricstab.engine import jacobian as engine_jacobian  # noqa: E402
+from fricstab.scenes.packing_friction import backbone, material, packing_system  # noqa: E402
 
 KT, K_LOW, HIST = 1.0, 50, 1e-4
 
@@ -43,10 +44,11 @@ KT, K_LOW, HIST = 1.0, 50, 1e-4
 def jacobian(n):
     from _packings import packing
     bb = backbone(packing(n, 0.9, 0))
-    net = network(bb.pos, bb.radius, bb.box)
-    hist = np.random.default_rng(0).normal(size=(net.m, 2)) * HIST
-    _, blocks = assemble(Network(net.pairs, net.sep, hist), bb.radius, KT)
-    return sparse_jacobian(net.pairs, blocks, bb.n, KT)
+    system = packing_system(bb, material("ishima", kt=KT))
+    state = system.state(bb.pos)
+    c = state.contacts
+    c.hist[:] = np.random.default_rng(0).normal(size=c.hist.shape) * HIST
+    return -engine_jacobian(system, state)[1]     # Ishima's J (Eq. 18)
 
 
 def _match_error(w, ref):

