@@ -1,7 +1,7 @@
 """Every protocol writes ``result.json`` with versions, seed, parameters and timings.
 
 One tiny run of each protocol of each scene (chain ramp, jacobian, dynamics,
-waves; packing make, rigidity, dos; shear run, analyze), all into one output
+waves; packing make, rigidity, dos; shear run, analyze, jacobian), all into one output
 folder per scene, then the index ``result.json`` of each folder is read back.
 """
 
@@ -22,10 +22,11 @@ RUNS = {
                 ["packing", "dos", "--packing", "{out}", "--kt", "1", "--bins", "10"]],
     "shear": [["shear", "run", "--n", "40", "--strain", "0.002", "--dgamma", "1e-4",
                "--gamma0", "0"],
-              ["shear", "analyze", "--no-spectra"]],
+              ["shear", "analyze", "--no-spectra"],
+              ["shear", "jacobian", "--n", "20", "--law", "hertz"]],
 }
 PROTOCOLS = {"chain": ["dynamics", "jacobian", "ramp", "waves"],
-             "packing": ["dos", "packing", "rigidity"], "shear": ["analysis", "shear"]}
+             "packing": ["dos", "packing", "rigidity"], "shear": ["analysis", "jacobian", "shear"]}
 
 
 @pytest.mark.parametrize("scene", sorted(RUNS))

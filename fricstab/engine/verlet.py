@@ -70,8 +70,9 @@ class Controls:
 @dataclass
 class Run:
     """Outcome of :func:`run`: steps done, whether ``tol`` was reached, the residual,
-    recorded frames (``times``, ``q``, ``v``, ``hist`` if asked) and the measured
-    contact force on the driven body (x, y) of the last step."""
+    recorded frames (``times``, ``q``, ``v``, ``hist`` if asked), the measured
+    contact force on the driven body (x, y) of the last step, and the forces of
+    the last step (dashpots included: what a continued run passes as ``forces``)."""
 
     steps: int
     converged: bool
@@ -81,6 +82,7 @@ class Run:
     v: np.ndarray
     hist: np.ndarray
     driven_force: np.ndarray
+    forces: np.ndarray = None
 
 
 @hot_jit
@@ -281,4 +283,4 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             break
     times = (first + np.arange(frame) * every) * dt
     return Run(step, converged, float(residual), times, rec_q[:frame], rec_v[:frame],
-               rec_h[:frame], meas)
+               rec_h[:frame], meas, f)
