@@ -16,7 +16,7 @@ from fricstab.errors import NumericalError, ParameterError
 from fricstab.generated.lee_hurley import lee_hurley_force
 from fricstab.io.scenes import show, validate
 from fricstab.protocols.shear_run import ShearRun, prepare
-from fricstab.scenes.shear import (LAWS, _lee_hurley_contact, make_cell, material, restitution,
+from fricstab.scenes.shear import (ISHIMA_KT_FACTOR, LAWS, _lee_hurley_contact, make_cell, material, restitution,
                                    typical_overlap, units_of)
 
 SMALL = {"n": 40, "seed": 3}
@@ -76,6 +76,8 @@ def test_law_defaults_carry_the_force_of_lee_hurley_at_the_typical_overlap(kappa
     assert math.isclose(m["kn"] * d0 ** 1.5, fn, rel_tol=64 * EPS)
     assert math.isclose(m["kt"] * d0 ** 0.5, kt, rel_tol=64 * EPS)
     assert m["mu"] == 0.7
+    ish = material(validate("shear", {**SMALL, "kappa": kappa, "law": "ishima"}), u).params
+    assert math.isclose(ish["kt"], ISHIMA_KT_FACTOR * m["kt"], rel_tol=4 * EPS)
     lh = material(validate("shear", SMALL), u).params
     assert math.isclose(lh["E"], 1.0, rel_tol=4 * EPS) and lh["mus"] == 0.7
 

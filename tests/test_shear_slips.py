@@ -64,3 +64,23 @@ def test_analyze_without_a_run_is_bad_input(tmp_path, capsys):
     assert main(["shear", "analyze", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert "shear.json" in err and err.strip().count("\n") == 0
+
+
+@pytest.mark.parametrize("law", ["hertz", "charan", "ishima"])
+def test_analyze_with_the_law_of_the_run(tmp_path, law):
+    """A run with another law analyses with that law: its dof per disk in the spectra."""
+    out = tmp_path / law
+    small = ["--n", "40", "--strain", "0.003", "--dgamma", "1e-5", "--gamma0", "0.001"]
+    assert main(["shear", "run", "--out", str(out), "--quiet", "--no-progress", "--law", law,
+                 *small]) == 0
+    assert main(["shear", "analyze", "--out", str(out), "--no-progress"]) == 0
+    rec = json.loads((out / "analysis.json").read_text())
+    frames = frames_of(out)
+    assert frames.meta["law"] == law
+    assert frames.contact_hist.shape[1] == (0 if law == "hertz" else 2)
+    sp = rec["slip_spectra"]
+    assert sp["n_slips"] == rec["summary"]["n_slip"] > 0
+    with np.load(out / "analysis.npz") as z:
+        assert np.all(z["slip_n_rolling"] == 0)        # only lee_hurley resists rolling
+        if law != "charan":
+            assert np.all(z["slip_n_sliding"] == 0)    # no Coulomb cap
