@@ -59,7 +59,7 @@ class SlipSpectra:
 
     def correlations(self):
         """Spearman of each statistic with the following Delta tau_p, overall and per bin."""
-        from fricstab.analysis.shear import binned_spearman, spearman_cell
+        from fricstab.analysis.shear_phases import binned_spearman, spearman_cell
         stats = {"n_complex_pairs": self.n_complex_pairs,
                  "max_growth_rate": self.max_growth_rate,
                  "lowest_real_eigenvalue": self.lowest_real_eigenvalue}
