@@ -250,3 +250,16 @@ def test_nan_stops_the_run_naming_step_and_particle():
     sim.state.v[5, 1] = np.nan
     with pytest.raises(NumericalError, match=r"particle 5 at step 1"):
         sim.advance(3)
+
+
+def test_an_overlap_beyond_the_law_stops_the_run_with_one_line():
+    """A disk thrown at another at 50 sqrt(E*/rho): lee_hurley refuses the overlap
+    (Lai's k_t beyond its fit) and the run stops with a NumericalError, not a
+    ValueError from the kernel."""
+    sim = ShearRun(make_cell(SMALL))
+    b = np.flatnonzero(sim.cell.kind == 0)[:2]
+    d = sim.state.q[b[1], :2] - sim.state.q[b[0], :2]
+    sim.state.v[b[0], :2] = 50 * d / np.linalg.norm(d)
+    with pytest.raises(NumericalError, match="reduce dt_frac") as info:
+        sim.advance(2000)
+    assert "\n" not in str(info.value)
