@@ -2,8 +2,8 @@
 
 A :class:`Frames` holds T output frames of N disks in a cell periodic in x
 (box length ``lx``) between two walls made of rows of disks.  It is the
-contract between the DEM that writes frames (:mod:`fricstab.scenes.shear`) and the
-analyses (:mod:`fricstab.analysis.shear`), figures and export.
+contract between the run that writes frames (:mod:`fricstab.protocols.shear_run`)
+and the analyses (:mod:`fricstab.analysis.shear`), figures and export.
 
 Shapes and conventions (units are those of the scene, recorded in ``meta``)
 --------------------------------------------------------------------------
