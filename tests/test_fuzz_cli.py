@@ -32,7 +32,8 @@ OK_CODES = {0, 2, 3, 4}
 COMMANDS = [["chain", "ramp"], ["chain", "jacobian"], ["chain", "dynamics"], ["chain", "waves"],
             ["packing", "make"], ["packing", "rigidity"], ["packing", "dos"],
             ["packing", "jacobian"],
-            ["shear", "run"], ["shear", "analyze"], ["shear", "export"], ["shear"],
+            ["shear", "run"], ["shear", "analyze"], ["shear", "export"], ["shear", "jacobian"],
+            ["shear"],
             ["scene", "show"], ["scene", "list"], ["laws"], ["verify"], ["chain"], [],
             ["frobnicate"], ["packing", "melt"]]
 OPTIONS = ["--n", "--fy", "--mu", "--inertia", "--step", "--fx", "--fx-max", "--tol",
@@ -42,8 +43,8 @@ OPTIONS = ["--n", "--fy", "--mu", "--inertia", "--step", "--fx", "--fx-max", "--
            "--packing", "--force", "--resume", "--quiet", "--cases", "--law", "--frobnicate",
            "--param",
            "--help", "-h", "--version", "--debug", "--",
-           "--mu-s", "--mu-r", "--strain", "--inertial-number", "--kappa", "--gamma0",
-           "--dt-frac", "--preset", "--format", "--every", "--no-spectra"]
+           "--param", "--strain", "--inertial-number", "--kappa", "--gamma0",
+           "--dt-frac", "--preset", "--format", "--every", "--no-spectra", "--modulus"]
 
 texts = st.one_of(
     st.sampled_from(["0", "1", "-1", "2", "3", "4", "16", "0.5", "1e-3", "1e308", "-1e308",
@@ -51,8 +52,8 @@ texts = st.one_of(
                      "x", "0x10", "1,2", "1e", "xyz", "dump", "local", "inline",
                      "tcp://127.0.0.1:1", "auto", "dense", "charan", "all", "chain",
                      "hertz", "ishima", "lee_hurley", "kt=0.5", "kn=-1", "mu=nan", "E=1",
-                     "kt", "=1", "nu=0.5",
-                     "packing", "shear", "\u00e9\u00e8", "\x00", "--out"]),
+                     "kt", "=1", "nu=0.5", "mus=0.3", "kn=1e12", "E=-1", "mur=nan", "Rw=1",
+                     "kt=", "packing", "shear", "\u00e9\u00e8", "\x00", "--out"]),
     st.floats(allow_nan=True, allow_infinity=True).map(repr),
     st.integers(min_value=-10 ** 30, max_value=10 ** 30).map(str),
     st.text(max_size=12))
@@ -157,13 +158,10 @@ def test_tiny_real_runs_succeed_or_fail_numerically(cmd, n, fx, fy, mu, duration
 @FUZZ
 @given(scene_key=st.sampled_from(
            [("chain", k) for k in ("n", "fy", "mu", "kn", "radius", "mass", "inertia", "kt")]
-           + [("shear", k) for k in ("n", "mu_s", "mu_r", "E", "nu", "kappa",
-                                     "inertial_number", "dgamma")]),
+           + [("shear", k) for k in ("n", "modulus", "kappa", "inertial_number", "dgamma")]),
        value=st.sampled_from(["-1", "0", "nan", "inf", '"x"', "[1]", "true", "1e999"]))
 def test_a_bad_scene_value_is_named(scene_key, value):
     scene, key = scene_key
-    if (scene, key, value) in {("shear", "mu_r", "0"), ("shear", "nu", "0")}:
-        return                      # allowed: no rolling resistance; Poisson ratio 0
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "s.toml"
         path.write_text(f"[{scene}]\n{key} = {value}\n")
@@ -174,3 +172,30 @@ def test_a_bad_scene_value_is_named(scene_key, value):
         # number but out of the law's range is named with the law's rule
         rule = "allowed:" in err or (scene == "chain" and f"{key} must be" in err)
         assert rc == 2 and f"'{key}'" in err and rule and "\n" not in err[:-1]
+
+
+@FUZZ
+@given(law_key=st.sampled_from([("lee_hurley", k) for k in ("E", "nu", "mus", "mur")]
+                               + [("hertz", "kn"), ("charan", "kn"), ("charan", "kt"),
+                                  ("charan", "mu"), ("ishima", "kt")]),
+       value=st.sampled_from(["-1", "0", "nan", "inf", '"x"', "[1]", "true", "1e999", "0.7"]),
+       where=st.sampled_from(["file", "option"]))
+def test_a_bad_shear_law_parameter_is_named(law_key, value, where):
+    """The law's parameters of the shear scene (scene file or --param): one line naming
+    the key, exit 2; allowed values (nu = 0.7 is not) resolve."""
+    law, key = law_key
+    allowed = (value == "0.7" and key != "nu") or (value == "0" and key in ("nu", "mur"))
+    with tempfile.TemporaryDirectory() as tmp:
+        argv = ["shear", "run", "--law", law, "--out", str(Path(tmp) / "o"), "--dry-run"]
+        if where == "file":
+            path = Path(tmp) / "s.toml"
+            path.write_text(f"[shear]\n{key} = {value}\n")
+            argv += ["--scene", str(path)]
+        else:
+            argv += ["--param", f"{key}={value}"]
+        rc, out, err = _run(argv)
+        _check(rc, out, err, argv)
+        if allowed:
+            assert rc == 0 and json.loads(out)["law_params"][key] == float(value)
+        else:
+            assert rc == 2 and key in err and "\n" not in err[:-1], (argv, err)

@@ -32,7 +32,6 @@ from fricstab._numerics import contact_halfwidth, cylinder_lambda, turning_overl
 from fricstab.generated import lee_hurley as gen
 from fricstab.generated import lee_hurley_wall as gen_wall
 from fricstab.laws import ParameterError, evaluate
-from fricstab.protocols.shear_law import damping_coefficients
 from fricstab.laws.verify_lee_hurley import (
     CENTRAL_BOUND, LAWS, ShearCase, case_inputs, central_jacobian, central_resolvable,
     complex_step_jacobian, exact_bound, generated_jacobian, lai_kt, mp_central_jacobian,
@@ -395,16 +394,34 @@ def test_parameters_are_checked():
             evaluate("lee_hurley_wall", **{**wall, key: bad})
 
 
+def _dashpot(vi, vj, mi, mj, ii, ij, damp=(0.1, 0.2, 0.3), kn=2.0, kt=1.0, kr=0.5):
+    """The engine's dashpot of a contact along x (n = (1, 0), t = (0, 1)), radii 1."""
+    from fricstab.engine.passes import _damping
+    out = np.zeros(4)
+    _damping(1.0, 0.0, 1.0, 1.0, 1.0, 1.0, np.array(vi, float), np.array(vj, float), kn, kt,
+             kr, mi, mj, ii, ij, np.array(damp), False, out)
+    return out
+
+
 def test_damping_coefficients_follow_a4_a12_a20_a22():
-    g_n, g_t, c_r = damping_coefficients(2.0, 1.0, 0.5, 1.0, 3.0, 0.5, 1.5, 1.0, 1.0,
-                                         0.1, 0.2, 0.3)
+    """The engine's dashpots (fricstab.engine.passes._damping) of Lee & Hurley.
+
+    gamma_n = 2 alpha_n sqrt(kn m*) (A4), gamma_t = 2 alpha_t sqrt(kt m*) (A12),
+    C_r = 2 eta_r sqrt(I_r kr) (A20, A21) with 1/m* = 1/m_i + 1/m_j (A5) and
+    1/I_r = 1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2) (A22); a wall partner has
+    m_j = I_j = inf.  Unit velocities read the coefficients off to 4 eps.
+    """
     m = 0.75  # 1/(1/1 + 1/3)
     i_r = 1.0 / (1.0 / 1.5 + 1.0 / 4.5)
+    g_n = -_dashpot((1, 0, 0), (0, 0, 0), 1.0, 3.0, 0.5, 1.5)[0]      # F_x = -g_n v_n
+    g_t = -_dashpot((0, 1, 0), (0, 0, 0), 1.0, 3.0, 0.5, 1.5)[1]      # F_y = -g_t v_t
+    rot = _dashpot((0, 0, 1), (0, 0, 0), 1.0, 3.0, 0.5, 1.5)          # v_t = -R w_i
+    c_r = -(rot[2] - 1.0 * g_t * -1.0)                                 # T_i = R g_t v_t + M_d
     assert math.isclose(g_n, 0.2 * math.sqrt(2.0 * m), rel_tol=4 * EPS)
     assert math.isclose(g_t, 0.4 * math.sqrt(1.0 * m), rel_tol=4 * EPS)
     assert math.isclose(c_r, 0.6 * math.sqrt(i_r * 0.5), rel_tol=4 * EPS)
-    wall = damping_coefficients(2.0, 1.0, 0.5, 1.0, np.inf, 0.5, np.inf, 1.0, 1.0, 0.1, 0.2, 0.3)
-    assert math.isclose(wall[0], 0.2 * math.sqrt(2.0), rel_tol=4 * EPS)
+    wall = -_dashpot((1, 0, 0), (0, 0, 0), 1.0, np.inf, 0.5, np.inf)[0]
+    assert math.isclose(wall, 0.2 * math.sqrt(2.0), rel_tol=4 * EPS)
 
 
 @pytest.mark.parametrize("law", LAWS)

@@ -1,8 +1,9 @@
 """Every protocol writes ``result.json`` with versions, seed, parameters and timings.
 
 One tiny run of each protocol of each scene (chain ramp, jacobian, dynamics,
-waves; packing make, rigidity, dos, jacobian; shear run, analyze), all into one output
-folder per scene, then the index ``result.json`` of each folder is read back.
+waves; packing make, rigidity, dos, jacobian; shear run, analyze, jacobian), all into
+one output folder per scene, then the index ``result.json`` of each folder is read
+back.
 """
 
 import json
@@ -23,10 +24,12 @@ RUNS = {
                 ["packing", "jacobian", "--packing", "{out}", "--law", "lee_hurley"]],
     "shear": [["shear", "run", "--n", "40", "--strain", "0.002", "--dgamma", "1e-4",
                "--gamma0", "0"],
-              ["shear", "analyze", "--no-spectra"]],
+              ["shear", "analyze", "--no-spectra"],
+              ["shear", "jacobian", "--n", "20", "--law", "hertz"]],
 }
 PROTOCOLS = {"chain": ["dynamics", "jacobian", "ramp", "waves"],
-             "packing": ["dos", "jacobian", "packing", "rigidity"], "shear": ["analysis", "shear"]}
+             "packing": ["dos", "jacobian", "packing", "rigidity"],
+             "shear": ["analysis", "jacobian", "shear"]}
 
 
 @pytest.mark.parametrize("scene", sorted(RUNS))

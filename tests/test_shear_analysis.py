@@ -122,8 +122,8 @@ def _frames_from(pos_list, contacts_list, kind, lx=10.0):
         w.append(time=k, strain=k * 1e-3, normal_force=1.0, shear_force=0.5, height=3.0,
                  pos=pos, angle=np.zeros(n), vel=np.zeros((n, 2)), omega=np.zeros(n),
                  contact_ij=np.reshape(ij, (m, 2)), contact_force=np.reshape(force, (m, 2)),
-                 contact_fn=fn, contact_ft=np.zeros(m), contact_mr=np.zeros(m),
-                 contact_sliding=np.zeros(m, np.int8))
+                 contact_fn=fn, contact_hist=np.zeros((m, 2)),
+                 contact_flag=np.zeros(m, np.int8))
     return w.finish()
 
 

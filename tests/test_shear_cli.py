@@ -1,4 +1,4 @@
-"""``fricstab shear run``: bad input, servo, SIGKILL + --resume bit-identical."""
+"""``fricstab shear run|jacobian``: bad input, any law, servo, SIGKILL + --resume bit-identical."""
 
 import json
 import os
@@ -23,13 +23,59 @@ def _cmd(out, *extra):
             "--no-progress", *SMALL, *extra]
 
 
+@pytest.mark.parametrize("command", ["run", "jacobian"])
 @pytest.mark.parametrize("args, key", [
-    (["--mu-s", "-0.1"], "mu_s"), (["--kappa", "-1e4"], "kappa"), (["--n", "1"], "'n'"),
-    (["--strain", "1e-6"], "strain"), (["--inertial-number", "0"], "inertial_number")])
-def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, args, key):
-    assert main(["shear", "run", "--out", str(tmp_path / "o"), *args]) == 2
+    (["--param", "mus=-0.1"], "--param mus"), (["--kappa", "-1e4"], "--kappa"),
+    (["--n", "1"], "--n"), (["--strain", "1e-6"], "strain"),
+    (["--inertial-number", "0"], "--inertial-number"), (["--law", "bogus"], "--law"),
+    (["--law", "hertz", "--param", "mus=0.5"], "mus is not a parameter of law hertz"),
+    (["--param", "kn=1"], "kn is not a parameter of law lee_hurley"),
+    (["--param", "E"], "KEY=VALUE"), (["--param", "nu=nan"], "nu"),
+    (["--law", "charan", "--param", "kt=0"], "kt must be > 0")])
+def test_bad_input_is_one_line_and_exit_2_writing_nothing(tmp_path, capsys, command, args,
+                                                           key):
+    out = tmp_path / "o"
+    assert main(["shear", command, "--out", str(out), *args]) == 2
     err = capsys.readouterr().err.strip()
+    assert err.startswith("fricstab: error:")
     assert err.count("\n") == 0 and key in err and "Traceback" not in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("law", ["lee_hurley", "hertz", "charan", "ishima"])
+def test_jacobian_of_a_relaxed_clamped_cell_for_every_law(tmp_path, law):
+    """``shear jacobian --law NAME`` with the law's defaults: exit 0 and the four files.
+
+    The written state is relaxed: max |F| over the bulk dof below the relaxation
+    tolerance (1e-10 f_0, f_0 = 2 E* L0 / kappa); the Jacobian recomputed from
+    state.npz alone equals the written one to round-off (same kernels, same
+    order: exactly).
+    """
+    import scipy.sparse as sps
+
+    from fricstab.engine import Material, System, jacobian
+    from fricstab.io.jacobian_export import read_state
+    out = tmp_path / law
+    assert main(["shear", "jacobian", "--out", str(out), "--law", law, "--n", "30",
+                 "--quiet"]) == 0
+    rec = json.loads((out / "jacobian.json").read_text())
+    assert rec["law"] == law and rec["max_abs_force_f0"] < 1e-10
+    s = read_state(out / "state.npz")
+    dofs = json.loads((out / "dofs.json").read_text())
+    k = sps.load_npz(out / "jacobian.npz")
+    mass = np.load(out / "mass.npy")
+    assert k.shape == (dofs["n_dof"],) * 2 == (len(mass),) * 2
+    assert dofs["law"] == law and "L0" in dofs["units"]["length"]
+    system = System(Material(law, dict(zip(s["param_names"], s["param_values"]))), s["radius"],
+                    s["mass"], s["inertia"], family=s["family"], lx=float(s["box"][0]),
+                    skin=0.1)
+    state = system.state(s["pos"], s["theta"])
+    rows = {(int(i), int(j)): h for (i, j), h in zip(s["contacts"], s["history"])}
+    for c in range(state.contacts.n):
+        key = (int(state.contacts.i[c]), int(state.contacts.j[c]))
+        state.contacts.hist[c] = rows.get(key, 0.0)
+    _, k2 = jacobian(system, state)
+    assert abs(k2 - k).max() <= 1e-12 * abs(k).max()
 
 
 def test_unknown_scene_key_exit_2(tmp_path, capsys):

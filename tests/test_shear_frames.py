@@ -11,8 +11,7 @@ from fricstab.io.frames import Frames, FrameWriter, synthetic_frames
 
 _ARRAYS = ("radius", "mass", "inertia", "kind", "time", "strain", "normal_force",
            "shear_force", "tau", "height", "pos", "angle", "vel", "omega", "contact_ptr",
-           "contact_ij", "contact_force", "contact_fn", "contact_ft", "contact_mr",
-           "contact_sliding")
+           "contact_ij", "contact_force", "contact_fn", "contact_hist", "contact_flag")
 
 
 def _same(a, b):
@@ -32,9 +31,10 @@ def test_shapes_dtypes_and_contacts(frames):
     assert (T, N) == (6, 8 * 6)
     assert frames.pos.shape == (T, N, 2) and frames.contact_ptr.shape == (T + 1,)
     assert frames.contact_ij.dtype == np.int32 and frames.kind.dtype == np.int8
-    ij, force, fn, ft, mr, sliding = frames.contacts(2)
+    ij, force, fn, hist, flag = frames.contacts(2)
     m = frames.contact_ptr[3] - frames.contact_ptr[2]
-    assert len(ij) == len(force) == len(fn) == len(ft) == len(mr) == len(sliding) == m > 0
+    assert len(ij) == len(force) == len(fn) == len(hist) == len(flag) == m > 0
+    assert hist.shape == (m, 2) and flag.dtype == np.int8
     assert np.all(ij[:, 0] < ij[:, 1])
     # tau defaults to S / N in the writer.
     assert np.allclose(frames.tau, frames.shear_force / frames.normal_force, rtol=0, atol=0)
@@ -119,4 +119,17 @@ def test_writer_rejects_empty_and_zero_normal_force():
         w.append(time=0, strain=0, normal_force=0.0, shear_force=1.0, height=1.0,
                  pos=np.zeros((2, 2)), angle=np.zeros(2), vel=np.zeros((2, 2)),
                  omega=np.zeros(2), contact_ij=np.zeros((0, 2)), contact_force=np.zeros((0, 2)),
-                 contact_fn=[], contact_ft=[], contact_mr=[], contact_sliding=[])
+                 contact_fn=[], contact_hist=[], contact_flag=[])
+
+
+def test_frames_without_history_and_empty_frames():
+    """A law without history (hertz) has H = 0; a frame without contacts keeps H."""
+    w = FrameWriter(4.0, np.ones(2), np.ones(2), np.ones(2), [1, 2], meta={"law": "hertz"})
+    base = dict(strain=0, normal_force=1.0, shear_force=0.5, height=1.0, pos=np.zeros((2, 2)),
+                angle=np.zeros(2), vel=np.zeros((2, 2)), omega=np.zeros(2))
+    w.append(time=0, contact_ij=[[0, 1]], contact_force=[[1.0, 0.0]], contact_fn=[1.0],
+             contact_hist=np.zeros((1, 0)), contact_flag=[0], **base)
+    w.append(time=1, contact_ij=np.zeros((0, 2)), contact_force=np.zeros((0, 2)),
+             contact_fn=[], contact_hist=[], contact_flag=[], **base)
+    f = w.finish()
+    assert f.contact_hist.shape == (1, 0) and f.contacts(1)[3].shape == (0, 0)

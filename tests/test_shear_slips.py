@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from fricstab.cli import main
-from fricstab.analysis.shear_slips import CAP_REL, on_slide_branch
+from fricstab.cli.shear_analyze import frames_of
 
 SMALL = ["--n", "40", "--strain", "0.01", "--dgamma", "1e-5", "--gamma0", "0.002"]
 
@@ -17,19 +17,6 @@ def run_dir(tmp_path_factory):
     assert main(["shear", "run", "--out", str(out), "--quiet", "--no-progress", *SMALL]) == 0
     assert main(["shear", "analyze", "--out", str(out), "--no-progress"]) == 0
     return out
-
-
-def test_histories_on_a_cap_are_put_on_the_slide_branch():
-    fn = np.array([1.0, 1.0, 1.0, 0.0])
-    ft = np.array([0.5, -0.5 * (1 - CAP_REL / 2), 0.3, 0.0])   # cap mu_s fn = 0.5
-    mr = np.array([0.0, 0.0, 0.01 * 0.5, 0.0])                # cap mu_r R_r fn = 0.005
-    r = np.ones(4)
-    ft2, mr2, sl, ro = on_slide_branch(ft, mr, fn, r, r, 0.5, 0.01)
-    assert sl.tolist() == [True, True, False, False]
-    assert ro.tolist() == [False, False, True, False]
-    # moved just outside the cap, sign kept; the inputs are untouched
-    assert ft2[0] == 0.5 * (1 + CAP_REL) and ft2[1] == -0.5 * (1 + CAP_REL)
-    assert mr2[2] == 0.005 * (1 + CAP_REL) and ft[0] == 0.5
 
 
 def test_every_slip_gets_its_spectrum(run_dir):
@@ -45,6 +32,12 @@ def test_every_slip_gets_its_spectrum(run_dir):
     np.testing.assert_array_equal(frame, phases[slips, 0] - 1)
     np.testing.assert_array_equal(dtau_s, dtau[slips])
     assert (pairs >= 0).all() and np.isfinite(growth).all() and (growth >= 0).all()
+    with np.load(run_dir / "analysis.npz") as z:
+        sliding = z["slip_n_sliding"]
+    # the frames' flags give the branches: the tangential caps the run recorded
+    frames = frames_of(run_dir)
+    for f, n in zip(frame, sliding):
+        assert n == int(((frames.contacts(int(f))[4] & 1) != 0).sum())
     corr = rec["slip_spectra"]["correlations_with_following_dtau_p"]["all"]
     assert set(corr) == {"n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue"}
     text = (run_dir / "analysis.md").read_text()
@@ -71,3 +64,23 @@ def test_analyze_without_a_run_is_bad_input(tmp_path, capsys):
     assert main(["shear", "analyze", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
     assert "shear.json" in err and err.strip().count("\n") == 0
+
+
+@pytest.mark.parametrize("law", ["hertz", "charan", "ishima"])
+def test_analyze_with_the_law_of_the_run(tmp_path, law):
+    """A run with another law analyses with that law: its dof per disk in the spectra."""
+    out = tmp_path / law
+    small = ["--n", "40", "--strain", "0.003", "--dgamma", "1e-5", "--gamma0", "0.001"]
+    assert main(["shear", "run", "--out", str(out), "--quiet", "--no-progress", "--law", law,
+                 *small]) == 0
+    assert main(["shear", "analyze", "--out", str(out), "--no-progress"]) == 0
+    rec = json.loads((out / "analysis.json").read_text())
+    frames = frames_of(out)
+    assert frames.meta["law"] == law
+    assert frames.contact_hist.shape[1] == (0 if law == "hertz" else 2)
+    sp = rec["slip_spectra"]
+    assert sp["n_slips"] == rec["summary"]["n_slip"] > 0
+    with np.load(out / "analysis.npz") as z:
+        assert np.all(z["slip_n_rolling"] == 0)        # only lee_hurley resists rolling
+        if law != "charan":
+            assert np.all(z["slip_n_sliding"] == 0)    # no Coulomb cap

@@ -1,10 +1,11 @@
-"""Jacobian of a sheared state and its spectrum (fricstab.analysis.shear_spectrum).
+"""Jacobian of a sheared state from the engine and its spectrum (fricstab.analysis.shear_spectrum).
 
 Tolerances: the blocks are exact to ~64 eps of their terms (test_lee_hurley);
 assembled sums of a few blocks stay within 1e3 eps of the largest entry.
 Eigenvalues of a symmetric K through the nonsymmetric dense route carry
 round-off ~eps * spectral radius * (eigenvector condition ~1): imaginary
-parts below 1e-10 of the radius.
+parts below 1e-10 of the radius.  The Jacobian itself is proven against a
+complex step of an independent assembly in tests/test_shear_proof.py.
 """
 
 import math
@@ -12,65 +13,66 @@ import math
 import numpy as np
 import pytest
 
-from fricstab.generated.lee_hurley import lee_hurley_contact, lee_hurley_increment
-from fricstab.laws import ParameterError
-from fricstab.analysis.shear_spectrum import assemble_stiffness, shear_spectrum
+from fricstab.analysis.shear_spectrum import (CAP_REL, clamped_system, recorded_state,
+                                              spectrum)
+from fricstab.engine import jacobian
+from fricstab.errors import ParameterError
+from fricstab.generated.lee_hurley import lee_hurley_contact
 
 EPS = np.finfo(float).eps
 MAT = dict(E=1.0, nu=0.2, mus=0.5, mur=0.01)
 
 
-def _cluster(ratio=0.0):
-    """Four overlapping disks in a rhombus, free (no walls), box lx = 100.
-
-    ``ratio`` sets every trial history to ``ratio`` times its cap (> 1: sliding).
-    """
+def _cluster(ratio=0.0, kind=(0, 0, 0, 0), law="lee_hurley", params=MAT):
+    """Four overlapping disks in a rhombus, box lx = 100; histories ``ratio`` x their caps."""
     radius = np.array([0.5, 0.55, 0.45, 0.5])
     pos = np.array([[0.0, 0.0], [1.04, 0.0], [0.46, 0.8], [0.5, -0.85]])
-    contacts = np.array([[1, 0], [2, 0], [2, 1], [3, 0], [3, 1]])
-    ft, mr = np.zeros(5), np.zeros(5)
+    contacts = np.array([[0, 1], [0, 2], [1, 2], [0, 3], [1, 3]])
+    hist = np.zeros((5, 2))
     out = np.empty(9)
     for c, (i, j) in enumerate(contacts):
         d = pos[i] - pos[j]
         lee_hurley_contact(d[0], d[1], radius[i], radius[j], *MAT.values(), 0.0, 0.0, out)
         assert out[0] > 0
         rr = radius[i] * radius[j] / (radius[i] + radius[j])
-        ft[c] = ratio * MAT["mus"] * out[5] * (1 if c % 2 else -1)
-        mr[c] = ratio * MAT["mur"] * rr * out[5]
+        hist[c] = (ratio * MAT["mus"] * out[5] * (1 if c % 2 else -1),
+                   ratio * MAT["mur"] * rr * out[5])
     mass = math.pi * radius ** 2
-    return dict(pos=pos, theta=np.zeros(4), radius=radius, mass=mass, inertia=mass * radius ** 2 / 2,
-                mobile=np.ones(4, bool), contacts=contacts, ft=ft, mr=mr, lx=100.0)
+    system = clamped_system(law, params, radius, mass, mass * radius ** 2 / 2, kind, 100.0)
+    n_hist = system.material.info.n_hist
+    state = recorded_state(system, pos, np.zeros(4), contacts, hist[:, :n_hist])
+    return system, state
 
 
-def _k(s):
-    return assemble_stiffness(s["pos"], s["radius"], s["mobile"], s["contacts"], s["ft"],
-                              s["mr"], s["lx"], **MAT)
+def _k(system, state):
+    return jacobian(system, state)[1].toarray()
 
 
 def test_sticking_without_history_is_symmetric_with_real_spectrum():
-    s = _cluster(0.0)
-    k, _ = _k(s)
-    kd = k.toarray()
+    system, state = _cluster(0.0)
+    kd = _k(system, state)
     assert np.abs(kd - kd.T).max() <= 1e3 * EPS * np.abs(kd).max()
-    spec = shear_spectrum(**s, **MAT)
+    spec = spectrum(system, state)
     radius = np.abs(spec.eigenvalues).max()
     assert spec.symmetric and spec.n_complex_pairs == 0
+    assert spec.n_sliding == spec.n_rolling == 0
     assert np.abs(spec.eigenvalues.imag).max() <= 1e-10 * radius
 
 
 def test_sliding_contacts_make_k_nonsymmetric():
-    s = _cluster(2.0)
-    kd = _k(s)[0].toarray()
+    system, state = _cluster(2.0)
+    kd = _k(system, state)
     asym = np.abs(kd - kd.T).max() / np.abs(kd).max()
     # the slip rows mu_s dF_n/dq have no transpose partner: O(mu_s) asymmetry
     assert asym > 1e-3
-    assert not shear_spectrum(**s, **MAT).symmetric
+    spec = spectrum(system, state)
+    assert not spec.symmetric and spec.n_sliding == spec.n_rolling == 5
 
 
 def test_free_cluster_translations_are_zero_modes():
-    s = _cluster(0.5)
-    kd = _k(s)[0].toarray()
-    spec = shear_spectrum(**s, **MAT)
+    system, state = _cluster(0.5)
+    kd = _k(system, state)
+    spec = spectrum(system, state)
     radius = np.abs(spec.eigenvalues).max()
     for c in range(2):
         u = np.zeros(12)
@@ -80,64 +82,78 @@ def test_free_cluster_translations_are_zero_modes():
     assert np.sum(np.abs(spec.eigenvalues) <= 1e-10 * radius) >= 2
 
 
-def test_k_column_is_the_derivative_of_the_assembled_forces_along_the_increment_rule():
-    """Central difference with positions moved and histories advanced by the rule.
+@pytest.mark.parametrize("law, params", [("hertz", {"kn": 1.0}),
+                                         ("charan", {"kn": 1.0, "kt": 0.7, "mu": 0.5}),
+                                         ("ishima", {"kn": 1.0, "kt": 0.7})])
+def test_every_law_gives_a_spectrum_with_its_generalized_masses(law, params):
+    """D = -M^-1 K with M = gmass (m, m, I/s^2): the eigenvalues do not depend on s.
 
-    Step h = 1e-7 (lengths ~1, overlaps ~1e-2): truncation (h/delta)^2 ~ 1e-10,
-    rounding eps/h ~ 1e-9 of the force scale: bound 1e-6 of the column.
+    For ishima (l = R theta) the same K in theta would be S K S with S =
+    diag(1, 1, R): D is similar, so the spectra agree to round-off x condition.
     """
-    for ratio in (0.5, 2.0):
-        s = _cluster(ratio)
-        kd = _k(s)[0].toarray()
-        rate = np.empty((2, 6))
-        h = 1e-7
-        for col in range(12):
-            p, comp = divmod(col, 3)
-            forces = []
-            for sign in (1.0, -1.0):
-                pos, ft, mr = s["pos"].copy(), s["ft"].copy(), s["mr"].copy()
-                if comp < 2:
-                    pos[p, comp] += sign * h
-                for c, (i, j) in enumerate(s["contacts"]):
-                    d = s["pos"][i] - s["pos"][j]
-                    lee_hurley_increment(d[0], d[1], s["radius"][i], s["radius"][j],
-                                         MAT["E"], MAT["nu"], rate)
-                    dq = np.zeros(6)
-                    if p == i:
-                        dq[comp] = sign * h
-                    if p == j:
-                        dq[3 + comp] = sign * h
-                    ft[c] += rate[0] @ dq
-                    mr[c] += rate[1] @ dq
-                forces.append(assemble_stiffness(pos, s["radius"], s["mobile"], s["contacts"],
-                                                 ft, mr, s["lx"], **MAT)[1].ravel())
-            fd = (forces[0] - forces[1]) / (2 * h)
-            assert np.abs(fd - kd[:, col]).max() <= 1e-6 * max(np.abs(kd[:, col]).max(), 1e-3)
+    system, state = _cluster(0.3, law=law, params=params)
+    spec = spectrum(system, state)
+    assert len(spec.eigenvalues) == system.dof * 4
+    kd = _k(system, state)
+    m = system.gmass[:, :system.dof].ravel()
+    s = np.concatenate([[1.0, 1.0, r] for r in system.radius])[:len(m)] if system.dof == 3 \
+        else np.ones(len(m))
+    k_theta = s[:, None] * kd * s[None, :]
+    m_theta = m * s * s
+    lam = np.sort_complex(np.linalg.eigvals(-k_theta / m_theta[:, None]))
+    radius = np.abs(lam).max()
+    assert np.abs(np.sort_complex(spec.eigenvalues) - lam).max() <= 1e-9 * radius
 
 
 def test_clamped_particles_and_periodic_image():
-    s = _cluster(0.0)
-    s["mobile"] = np.array([True, True, False, True])
-    k, _ = _k(s)
+    system, state = _cluster(0.0, kind=(0, 0, 1, 0))
+    k = _k(system, state)
     assert k.shape == (9, 9)
-    # shifting a particle by the box length changes nothing (minimum image)
-    s2 = {**s, "pos": s["pos"] + np.array([[0.0, 0.0], [100.0, 0.0], [0.0, 0.0], [-100.0, 0.0]])}
+    # shifting a particle by the box length changes nothing (another image)
+    pos = state.q[:, :2] + np.array([[0.0, 0.0], [100.0, 0.0], [0.0, 0.0], [-100.0, 0.0]])
+    c = state.contacts
+    s2 = recorded_state(system, pos, np.zeros(4), np.column_stack([c.i, c.j]), c.hist)
     # x + 100 - 100 moves x by up to ulp(100) ~ 1.4e-14: relative 1e-12 of an
     # overlap ~1e-2, amplified by the 1/delta of the block derivatives: 1e-9.
-    assert np.allclose(_k(s2)[0].toarray(), k.toarray(), rtol=0,
-                       atol=1e-9 * np.abs(k.toarray()).max())
+    assert np.allclose(_k(system, s2), k, rtol=0, atol=1e-9 * np.abs(k).max())
+
+
+def test_recorded_flags_restore_the_branch_of_rounded_histories():
+    """A history a few ulp inside its cap but recorded as sliding is put on the cap
+    (slide branch), one a few ulp outside but recorded as sticking inside it, by
+    CAP_REL; the forces move by CAP_REL of the cap at most."""
+    system, state = _cluster(1.0 + 1e-9)         # projected onto the caps exactly
+    c = state.contacts
+    caps = np.abs(c.hist.copy())
+    assert np.all(c.flag == 3)
+    rounded = np.sign(c.hist) * caps * (1.0 - 4 * EPS)
+    contacts = np.column_stack([c.i, c.j])
+    pos, theta = state.q[:, :2], np.zeros(4)
+    inside = recorded_state(system, pos, theta, contacts, rounded)
+    assert np.all(inside.contacts.flag == 0)     # without flags: the stick branch
+    back = recorded_state(system, pos, theta, contacts, rounded, flags=np.full(5, 3))
+    assert np.all(back.contacts.flag == 3)
+    assert np.array_equal(back.contacts.hist, c.hist)
+    outside = np.sign(c.hist) * caps * (1.0 + 4 * EPS)
+    stick = recorded_state(system, pos, theta, contacts, outside, flags=np.zeros(5, int))
+    assert np.all(stick.contacts.flag == 0)
+    assert np.allclose(np.abs(stick.contacts.hist), caps * (1 - CAP_REL), rtol=4 * EPS)
 
 
 def test_growth_rate_definition():
-    s = _cluster(0.0)
-    spec = shear_spectrum(**s, **MAT)
+    system, state = _cluster(0.0)
+    spec = spectrum(system, state)
     lam = spec.eigenvalues
     assert math.isclose(spec.max_growth_rate, np.abs(np.sqrt(-lam.astype(complex)).real).max())
 
 
 def test_bad_input_is_named():
-    s = _cluster(0.0)
-    with pytest.raises(ParameterError, match="radius"):
-        shear_spectrum(**{**s, "radius": s["radius"][:3]}, **MAT)
+    system, state = _cluster(0.0)
+    contacts = np.column_stack([state.contacts.i, state.contacts.j])
+    with pytest.raises(ParameterError, match="theta"):
+        recorded_state(system, state.q[:, :2], np.zeros(3), contacts, state.contacts.hist)
     with pytest.raises(ParameterError, match="contacts"):
-        shear_spectrum(**{**s, "contacts": np.array([[0, 9]] * 5)}, **MAT)
+        recorded_state(system, state.q[:, :2], np.zeros(4), np.array([[0, 9]] * 5),
+                       state.contacts.hist)
+    with pytest.raises(ParameterError, match="not within reach"):
+        recorded_state(system, state.q[:, :2], np.zeros(4), np.array([[2, 3]]), np.zeros((1, 2)))

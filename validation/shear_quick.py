@@ -53,14 +53,13 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     # cost of the paper run: 1,000 bulk disks (+ about 60 wall disks), 130,000
     # frames at the paper's I and kappa, from this run's throughput
     paper = resolve_params(None, "paper")
-    from fricstab.scenes.shear import make_cell, Shear
-    sim = Shear(make_cell(paper))
-    sim.wall[1] = sim.cell.n_target
+    from fricstab.scenes.shear import make_cell
     import math
-    gdot = paper["inertial_number"] * math.sqrt(sim.cell.n_target / sim.cell.lx) / 2.0
-    spf = math.ceil(paper["dgamma"] / (gdot * paper["dt_frac"] * sim.cell.t_c))
+    cell = make_cell(paper)
+    gdot = paper["inertial_number"] * math.sqrt(cell.n_target / cell.lx) / 2.0
+    spf = math.ceil(paper["dgamma"] / (gdot * paper["dt_frac"] * cell.t_c))
     paper_steps = spf * round(paper["strain"] / paper["dgamma"])
-    paper_hours = paper_steps * len(sim.cell.radius) / thr / 3600
+    paper_hours = paper_steps * len(cell.radius) / thr / 3600
     lines = [
         "# Plane shear, quick default: stick-slip (Lee & Hurley Sec. 3)", "",
         "Command: `python validation/shear_quick.py` (= `fricstab shear run --out DIR`, "
@@ -78,7 +77,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
         f"| servo: mean / rms / max relative N error | {sv['mean_rel_error']:.1e} / {sv['rms_rel_error']:.1e} / {sv['max_abs_rel_error']:.1e} | - |",
         f"| wall time (prepare + shear) | {wall:.0f} s | - |",
         f"| throughput | {thr:.3g} particle-steps/s | - |",
-        f"| paper-size run at this throughput | {paper_steps:.3g} steps x {len(sim.cell.radius)} disks = {paper_hours:.1f} h | - |",
+        f"| paper-size run at this throughput | {paper_steps:.3g} steps x {len(cell.radius)} disks = {paper_hours:.1f} h | - |",
         "", "Phases are counted with `fricstab.analysis.shear.find_phases` (a phase is a run "
         "of output steps with the same sign of d tau). The paper's count is for ~130,000 "
         "output steps; compare the rate per output step. ", "",
@@ -99,7 +98,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
 def _analyze(out, p):
     """Lee & Hurley analyses of the run and the spectrum before each slip (rows, markdown)."""
     from fricstab.analysis.shear import analyze, tables_markdown
-    from fricstab.cli.shear import frames_of
+    from fricstab.cli.shear_analyze import frames_of
     from fricstab.analysis.shear_slips import slip_spectra
     frames = frames_of(out)
     res = analyze(frames, p["gamma0"], progress=False)

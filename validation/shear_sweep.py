@@ -23,8 +23,9 @@ def member(mu_s, out):
     import numpy as np
 
     from fricstab.analysis.shear import analyze
-    from fricstab.cli.shear import frames_of, resolve_params, run_shear
-    p = resolve_params(None, "quick", {"mu_s": mu_s})
+    from fricstab.cli.shear import resolve_params, run_shear
+    from fricstab.cli.shear_analyze import frames_of
+    p = resolve_params(None, "quick", {"mus": mu_s})
     rec = run_shear(p, out, force=True, log=lambda *a: None)
     res = analyze(frames_of(out), p["gamma0"], progress=False)
     return {"phases_per_step": np.float64(rec["phases"]["phases_per_step"]),

@@ -4,20 +4,22 @@ Beyond Lee & Hurley: for every slip phase (a maximal run of falling
 ``tau = S/N``, :func:`fricstab.analysis.shear.find_phases`) we take the output
 frame just before it, where ``tau`` peaked, and compute the spectrum of
 ``D = -M^{-1} K`` of the bulk disks with the walls clamped
-(:func:`fricstab.analysis.shear_spectrum.shear_spectrum`; ``K = dF/dq`` from the
-verified ``lee_hurley`` blocks, the histories advanced by the law's increment
-rule).  A stable real mode has ``lambda = omega^2 > 0``.  Recorded per slip:
-the number of complex-conjugate pairs, the largest growth rate
-``max |Re sqrt(-lambda)|`` (1/s) and the lowest real eigenvalue (1/s^2), and
-the drop ``Delta tau_p`` of the slip that follows.
+(:mod:`fricstab.analysis.shear_spectrum`: ``K = dF/dq`` from
+:func:`fricstab.engine.jacobian` for the run's law, with the frame's
+histories advanced by the law's increment rule, ``M`` the generalized
+masses).  A stable real mode has ``lambda = omega^2 > 0``.  Recorded per
+slip: the number of complex-conjugate pairs, the largest growth rate
+``max |Re sqrt(-lambda)|`` (1/s) and the lowest real eigenvalue (1/s^2), the
+contacts on their tangential and rolling caps, and the drop ``Delta tau_p``
+of the slip that follows.
 
-Contacts at a cap.  A contact whose stored history sits on its Coulomb (or
-rolling) cap is on the slide branch of the law: its Jacobian is the cap's
-derivative ``mu dF_n/dq``.  The stored value equals the cap only to the
-rounding of the SI conversion, so a history within a relative ``CAP_REL`` of
-its cap is moved just outside it (by the same ``CAP_REL``) before the kernel
-decides the branch.  The force changes by ``CAP_REL`` of the cap at most:
-far below the tolerance of anything derived from it.
+Contacts at a cap.  The frame records each contact's cap flags; the
+histories are SI values converted from the run's reduced units, so a history
+on its cap may sit a few ulp inside the cap recomputed from the SI positions.
+The recorded branch is restored with the relative ``CAP_REL`` move of
+:func:`fricstab.analysis.shear_spectrum.recorded_state` (the generated kernels
+put a history exactly on its cap on the slide branch, so only this rounding
+needs the move).
 
 Units: SI per unit thickness, as the frames.
 """
@@ -26,12 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab.laws import ParameterError
+from fricstab.errors import ParameterError
 
-__all__ = ["CAP_REL", "SlipSpectra", "on_slide_branch", "slip_spectra"]
-
-#: Relative distance to a cap within which a stored history counts as on it.
-CAP_REL = 1e-9
+__all__ = ["SlipSpectra", "slip_spectra"]
 
 
 @dataclass(frozen=True)
@@ -60,7 +59,7 @@ class SlipSpectra:
 
     def correlations(self):
         """Spearman of each statistic with the following Delta tau_p, overall and per bin."""
-        from fricstab.analysis.shear import binned_spearman, spearman_cell
+        from fricstab.analysis.shear_phases import binned_spearman, spearman_cell
         stats = {"n_complex_pairs": self.n_complex_pairs,
                  "max_growth_rate": self.max_growth_rate,
                  "lowest_real_eigenvalue": self.lowest_real_eigenvalue}
@@ -84,22 +83,6 @@ class SlipSpectra:
         }
 
 
-def on_slide_branch(ft, mr, fn, radius_i, radius_j, mu_s, mu_r):
-    """Histories moved just outside their caps where they sit on them (module docstring).
-
-    Returns ``(ft, mr, sliding, rolling)``; the inputs are not modified.
-    """
-    ft, mr, fn = (np.array(a, dtype=float) for a in (ft, mr, fn))
-    r_r = radius_i * radius_j / (radius_i + radius_j)
-    caps = ((ft, mu_s * fn), (mr, mu_r * r_r * fn))
-    flags = []
-    for h, cap in caps:
-        on = (cap > 0) & (np.abs(h) >= (1.0 - CAP_REL) * cap)
-        h[on] = np.sign(h[on]) * cap[on] * (1.0 + CAP_REL)
-        flags.append(on)
-    return ft, mr, flags[0], flags[1]
-
-
 def slip_spectra(frames, phases, dtau_p, params, progress=False):
     """Spectrum statistics at the stick state before every slip (module docstring).
 
@@ -113,39 +96,33 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False):
     dtau_p : ndarray (P,)
         Delta tau_p per phase; slips are the phases with ``dtau_p < 0``.
     params : dict
-        The run's scene: ``E``, ``nu``, ``mu_s``, ``mu_r``.
+        The run's validated scene (``law``, ``law_params`` in SI).
     progress : bool
         tqdm bar.
     """
     from tqdm import tqdm
 
-    from fricstab.analysis.shear_spectrum import shear_spectrum
+    from fricstab.analysis.shear_spectrum import clamped_system, recorded_state, spectrum
     phases = np.asarray(phases, dtype=np.int64).reshape(-1, 2)
     dtau_p = np.asarray(dtau_p, dtype=float)
     if len(dtau_p) != len(phases):
         raise ParameterError(f"dtau_p has {len(dtau_p)} entries for {len(phases)} phases")
-    for key in ("E", "nu", "mu_s", "mu_r"):
+    for key in ("law", "law_params"):
         if key not in params:
-            raise ParameterError(f"params: missing scene key {key!r}")
-    estar = params["E"] / (2.0 * (1.0 - params["nu"] ** 2))
+            raise ParameterError(f"params: missing scene key {key!r} (a run made before the "
+                                 "engine: rerun it)")
+    system = clamped_system(params["law"], params["law_params"], frames.radius, frames.mass,
+                            frames.inertia, frames.kind, frames.lx)
     slips = np.flatnonzero(dtau_p < 0)
-    mobile = frames.kind == 0
     cols = {k: [] for k in ("n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue",
                             "n_sliding", "n_rolling")}
     for p in tqdm(slips, desc="slip spectra", unit="slip", disable=not progress):
         k = int(phases[p, 0]) - 1
-        ij, _, fn, ft, mr, _ = frames.contacts(k)
-        ft, mr, sl, ro = on_slide_branch(ft, mr, fn, frames.radius[ij[:, 0]],
-                                         frames.radius[ij[:, 1]], params["mu_s"],
-                                         params["mu_r"])
-        spec = shear_spectrum(frames.pos[k], frames.angle[k], frames.radius, frames.mass,
-                              frames.inertia, mobile, ij, ft, mr, frames.lx, estar,
-                              params["nu"], params["mu_s"], params["mu_r"])
-        for key, value in (("n_complex_pairs", spec.n_complex_pairs),
-                           ("max_growth_rate", spec.max_growth_rate),
-                           ("lowest_real_eigenvalue", spec.lowest_real_eigenvalue),
-                           ("n_sliding", int(sl.sum())), ("n_rolling", int(ro.sum()))):
-            cols[key].append(value)
+        ij, _, _, hist, flag = frames.contacts(k)
+        state = recorded_state(system, frames.pos[k], frames.angle[k], ij, hist, flag)
+        spec = spectrum(system, state)
+        for key in cols:
+            cols[key].append(getattr(spec, key))
     ints = ("n_complex_pairs", "n_sliding", "n_rolling")
     return SlipSpectra(frame=phases[slips, 0] - 1, dtau_p=dtau_p[slips],
                        **{k: np.asarray(v, dtype=np.int64 if k in ints else float)

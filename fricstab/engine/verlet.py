@@ -15,7 +15,10 @@ One step (free particles; :mod:`fricstab.engine.system` for the families)::
 body's ``v_y = -g (N_target - N)`` clipped to ``|v_y| <= v_max``, with ``N``
 the summed y contact force on the driven particles of the previous step.
 ``affine_y`` moves the free particles' y with the driven body (a compression
-that need not wait for the disks to travel).  The Lees-Edwards offset grows
+that need not wait for the disks to travel); the affine part of that move is a
+preparation device, not a relative motion of contacts: the histories advance
+with the dynamic displacement ``dt v`` only, as in the preparation of the
+plane-shear cell before the engine.  The Lees-Edwards offset grows
 by ``rate dt`` per step.
 
 The loop is serial; contacts and particles are visited in a fixed order, so a
@@ -70,8 +73,9 @@ class Controls:
 @dataclass
 class Run:
     """Outcome of :func:`run`: steps done, whether ``tol`` was reached, the residual,
-    recorded frames (``times``, ``q``, ``v``, ``hist`` if asked) and the measured
-    contact force on the driven body (x, y) of the last step."""
+    recorded frames (``times``, ``q``, ``v``, ``hist`` if asked), the measured
+    contact force on the driven body (x, y) of the last step, and the forces of
+    the last step (dashpots included: what a continued run passes as ``forces``)."""
 
     steps: int
     converged: bool
@@ -81,17 +85,19 @@ class Run:
     v: np.ndarray
     hist: np.ndarray
     driven_force: np.ndarray
+    forces: np.ndarray = None
 
 
 @hot_jit
 def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, family, ext,
           lx, ly, shiftv, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas,
           dt, step0, n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every,
-          work):
+          work, dqh):
     """Steps ``step0 .. n_steps - 1``; returns (step, status, item, frame, residual).
 
     ``shiftv = [shift, ref_shift, time]`` is updated in place.  ``mid``: the
-    drift of step ``step0`` is done (a rebuild interrupted it).
+    drift of step ``step0`` is done (a rebuild interrupted it).  ``dqh`` holds the
+    displacement the histories see (``dq`` without the affine move).
     """
     n = q.shape[0]
     nu, vx_drive, vy_drive = ctrl[0], ctrl[1], ctrl[2]
@@ -138,6 +144,8 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
                         v[i, b] += half * (f[i, b] * ginv[i, b] - nu * v[i, b])
                         dq[i, b] = dt * v[i, b]
                     if affine:
+                        for b in range(3):
+                            dqh[i, b] = dq[i, b]
                         y_new = y_ref + (q[i, 1] + dq[i, 1] - y_ref) * scale
                         dq[i, 1] = y_new - q[i, 1]
                 elif fam == 2:
@@ -150,6 +158,9 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
                 else:
                     for b in range(3):
                         dq[i, b] = 0.0
+                if affine and fam != 0:
+                    for b in range(3):
+                        dqh[i, b] = dq[i, b]
                 for b in range(3):
                     q[i, b] += dq[i, b]
                 ex = q[i, 0] - ref[i, 0]
@@ -165,7 +176,8 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
             gap = 2.0 * np.sqrt(far) + abs(shiftv[0] - shiftv[1])
             if skin > 0.0 and gap * gap > lim:
                 return step, REBUILD, -1, frame, residual
-        passes.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly,
+        hq = dqh if affine else dq
+        passes.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp, idamp, lx, ly,
                             shiftv[0], rate * dt, rate, damp, ci, cj, cm, ck, hist, flag, cout,
                             ext, family, f, dof, meas, work, step == n_steps - 1, n_drv > 0)
         for i in range(n):
@@ -248,6 +260,7 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
     rec_v = np.empty((n_frames, system.n, 3))
     rec_h = np.empty((n_frames if record_hist else 0, c.n, c.hist.shape[1]))
     dq = np.zeros((system.n, 3))
+    dqh = np.zeros((system.n, 3))
     work = np.zeros((8, 6))
     shiftv = np.array([state.shift, state.ref_shift, state.time])
     step, mid, frame = step0, False, 0
@@ -262,7 +275,8 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             system.damping_inertia, system.family, system.external, float(system.lx),
             float(system.ly), shiftv, c.i, c.j, c.m, c.k, c.hist, c.flag, c.out, state.ref,
             float(system.skin), system.dof, system.damping, ctrl, meas, float(dt), step,
-            n_steps, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol), check_every, work)
+            n_steps, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol), check_every, work,
+            dqh)
         state.shift, state.ref_shift, state.time = shiftv
         mid = False
         if status == REBUILD:
@@ -281,4 +295,4 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             break
     times = (first + np.arange(frame) * every) * dt
     return Run(step, converged, float(residual), times, rec_q[:frame], rec_v[:frame],
-               rec_h[:frame], meas)
+               rec_h[:frame], meas, f)

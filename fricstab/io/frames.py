@@ -2,8 +2,8 @@
 
 A :class:`Frames` holds T output frames of N disks in a cell periodic in x
 (box length ``lx``) between two walls made of rows of disks.  It is the
-contract between the DEM that writes frames (:mod:`fricstab.scenes.shear`) and the
-analyses (:mod:`fricstab.analysis.shear`), figures and export.
+contract between the run that writes frames (:mod:`fricstab.protocols.shear_run`)
+and the analyses (:mod:`fricstab.analysis.shear`), figures and export.
 
 Shapes and conventions (units are those of the scene, recorded in ``meta``)
 --------------------------------------------------------------------------
@@ -24,11 +24,15 @@ Contacts, ragged over frames (CSR layout), frame k owns rows
     ``contact_ptr (T + 1,)`` int64, ``contact_ij (M, 2)`` int32 with i < j,
     ``contact_force (M, 2)`` total contact force on i from j (elastic +
     damping; the force on j is minus it), ``contact_fn (M,)`` elastic normal
-    force (>= 0 compressive), ``contact_ft (M,)`` stored (capped) tangential
-    force history, ``contact_mr (M,)`` stored rolling torque history,
-    ``contact_sliding (M,)`` int8 (1 when the contact sits on the Coulomb cap).
-``meta``: a JSON-serialisable dict (units, scene parameters, version); kept in
-the NPZ as a JSON string.
+    force (>= 0 compressive), ``contact_hist (M, H)`` the contact law's
+    stored (projected) history, H = 0 for a law without one (``meta["law"]``
+    names the law, ``meta["history"]`` the slots and their units: for
+    ``lee_hurley`` the tangential force ft and the rolling torque mr, for
+    ``charan`` and ``ishima`` the tangential displacement (tx, ty)),
+    ``contact_flag (M,)`` int8: bit 1 the tangential history sits on its cap
+    (sliding), bit 2 the rolling one (the engine's projection flags).
+``meta``: a JSON-serialisable dict (units, scene parameters, law, version);
+kept in the NPZ as a JSON string.
 
 Files are NPZ written atomically (temporary file in the same directory, then
 ``os.replace``); :meth:`Frames.load` validates shapes and dtypes and raises
@@ -49,7 +53,7 @@ from fricstab.laws import ParameterError
 
 __all__ = ["FORMAT", "FrameWriter", "Frames", "synthetic_frames"]
 
-FORMAT = "fricstab.io.frames/1"
+FORMAT = "fricstab.io.frames/2"  # /2: contact_hist (M, H), contact_flag
 
 # name -> (dtype, shape template); "T", "N", "M", "T+1" are symbolic sizes.
 _SPEC = {
@@ -71,15 +75,14 @@ _SPEC = {
     "contact_ij": (np.int32, ("M", 2)),
     "contact_force": (np.float64, ("M", 2)),
     "contact_fn": (np.float64, ("M",)),
-    "contact_ft": (np.float64, ("M",)),
-    "contact_mr": (np.float64, ("M",)),
-    "contact_sliding": (np.int8, ("M",)),
+    "contact_hist": (np.float64, ("M", "H")),
+    "contact_flag": (np.int8, ("M",)),
 }
 _PER_PARTICLE = ("radius", "mass", "inertia", "kind")
 _PER_FRAME = ("time", "strain", "normal_force", "shear_force", "tau", "height",
               "pos", "angle", "vel", "omega")
-_PER_CONTACT = ("contact_ij", "contact_force", "contact_fn", "contact_ft",
-                "contact_mr", "contact_sliding")
+_PER_CONTACT = ("contact_ij", "contact_force", "contact_fn", "contact_hist",
+                "contact_flag")
 
 
 def _readonly(a):
@@ -115,9 +118,8 @@ class Frames:
     contact_ij: np.ndarray
     contact_force: np.ndarray
     contact_fn: np.ndarray
-    contact_ft: np.ndarray
-    contact_mr: np.ndarray
-    contact_sliding: np.ndarray
+    contact_hist: np.ndarray
+    contact_flag: np.ndarray
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -134,7 +136,8 @@ class Frames:
         n = self.radius.shape[0] if self.radius.ndim == 1 else -1
         t = self.time.shape[0] if self.time.ndim == 1 else -1
         m = self.contact_ij.shape[0] if self.contact_ij.ndim == 2 else -1
-        sizes = {"N": n, "T": t, "M": m, "T+1": t + 1}
+        h = self.contact_hist.shape[1] if self.contact_hist.ndim == 2 else -1
+        sizes = {"N": n, "T": t, "M": m, "T+1": t + 1, "H": h}
         for name, (_, shape) in _SPEC.items():
             want = tuple(sizes[s] if isinstance(s, str) else s for s in shape)
             got = getattr(self, name).shape
@@ -173,7 +176,7 @@ class Frames:
         return self.radius.shape[0]
 
     def contacts(self, k):
-        """Contacts of frame ``k``: ``(ij, force, fn, ft, mr, sliding)`` (views)."""
+        """Contacts of frame ``k``: ``(ij, force, fn, hist, flag)`` (views)."""
         k = int(k)
         if not -self.n_frames <= k < self.n_frames:
             raise ParameterError(f"frame k={k} out of range [0, {self.n_frames})")
@@ -192,10 +195,10 @@ class Frames:
         return w.finish()
 
     def _frame_kwargs(self, k):
-        ij, force, fn, ft, mr, sliding = self.contacts(k)
+        ij, force, fn, hist, flag = self.contacts(k)
         out = {name: getattr(self, name)[k] for name in _PER_FRAME}
-        out.update(contact_ij=ij, contact_force=force, contact_fn=fn, contact_ft=ft,
-                   contact_mr=mr, contact_sliding=sliding)
+        out.update(contact_ij=ij, contact_force=force, contact_fn=fn, contact_hist=hist,
+                   contact_flag=flag)
         return out
 
     def save(self, path):
@@ -256,9 +259,10 @@ class Frames:
             raise ParameterError("concat: no chunks given")
         first = chunks[0]
         for c in chunks[1:]:
-            if c.lx != first.lx or c.n_particles != first.n_particles or not (
+            if c.lx != first.lx or c.n_particles != first.n_particles or \
+                    c.contact_hist.shape[1] != first.contact_hist.shape[1] or not (
                     np.array_equal(c.radius, first.radius) and np.array_equal(c.kind, first.kind)):
-                raise ParameterError("concat: chunks differ in lx or particles")
+                raise ParameterError("concat: chunks differ in lx, particles or histories")
         out = {name: np.concatenate([getattr(c, name) for c in chunks])
                for name in _PER_FRAME + _PER_CONTACT}
         if np.any(np.diff(out["time"]) < 0):
@@ -295,11 +299,12 @@ class FrameWriter:
         return len(self._counts)
 
     def append(self, *, time, strain, normal_force, shear_force, height, pos, angle, vel,
-               omega, contact_ij, contact_force, contact_fn, contact_ft, contact_mr,
-               contact_sliding, tau=None):
+               omega, contact_ij, contact_force, contact_fn, contact_hist, contact_flag,
+               tau=None):
         """Add one frame; ``tau`` defaults to ``shear_force / normal_force``.
 
-        Arrays are copied, so the caller may reuse its buffers.
+        ``contact_hist`` (M, H) has the same H in every frame.  Arrays are
+        copied, so the caller may reuse its buffers.
         """
         if tau is None:
             if normal_force == 0:
@@ -315,9 +320,16 @@ class FrameWriter:
         m = ij.shape[0]
         self._frames["contact_ij"].append(ij)
         self._frames["contact_force"].append(np.array(contact_force, np.float64).reshape(m, 2))
-        for name, v in {"contact_fn": contact_fn, "contact_ft": contact_ft,
-                            "contact_mr": contact_mr, "contact_sliding": contact_sliding}.items():
-            self._frames[name].append(np.array(v).reshape(m))
+        self._frames["contact_fn"].append(np.array(contact_fn, np.float64).reshape(m))
+        flag = np.array(contact_flag).reshape(m)
+        if flag.size and flag.dtype.kind not in "iub":
+            raise ParameterError(f"FrameWriter.append: contact_flag must be integer, got "
+                                 f"{flag.dtype}")
+        self._frames["contact_flag"].append(flag.astype(np.int8))
+        hist = np.array(contact_hist, np.float64)
+        if hist.ndim != 2:
+            hist = hist.reshape(m, -1) if m else hist.reshape(0, 0)
+        self._frames["contact_hist"].append(hist)
         self._counts.append(m)
 
     def finish(self):
@@ -326,6 +338,8 @@ class FrameWriter:
             raise ParameterError("FrameWriter.finish: no frames appended")
         f = self._frames
         arrays = {name: np.array(f[name]) for name in _PER_FRAME}
+        width = max(h.shape[1] for h in f["contact_hist"])
+        f["contact_hist"] = [h if len(h) else h.reshape(0, width) for h in f["contact_hist"]]
         for name in _PER_CONTACT:
             arrays[name] = np.concatenate(f[name])
         arrays["contact_ptr"] = np.concatenate([[0], np.cumsum(self._counts)])
@@ -356,7 +370,8 @@ def synthetic_frames(n_frames=12, nx=12, ny=8, seed=0, dgamma=1e-3, noise=0.02):
     mass = np.pi * radius**2
     lx = float(nx)
     w = FrameWriter(lx, radius, mass, 0.5 * mass * radius**2, kind,
-                    meta={"synthetic": True, "seed": seed, "dgamma": dgamma})
+                    meta={"synthetic": True, "seed": seed, "dgamma": dgamma,
+                          "law": "lee_hurley", "history": ["ft", "mr"]})
     pos, tau = pos0.copy(), 0.3
     h = pos0[:, 1].max() - pos0[:, 1].min()
     for k in range(n_frames):
@@ -379,8 +394,8 @@ def synthetic_frames(n_frames=12, nx=12, ny=8, seed=0, dgamma=1e-3, noise=0.02):
                  height=h, pos=pos, angle=np.zeros(n), vel=np.zeros((n, 2)),
                  omega=np.zeros(n), contact_ij=np.column_stack([ii, jj]),
                  contact_force=-fn[:, None] * nrm + ft[:, None] * tan, contact_fn=fn,
-                 contact_ft=ft, contact_mr=np.zeros(len(ii)),
-                 contact_sliding=np.zeros(len(ii), np.int8))
+                 contact_hist=np.column_stack([ft, np.zeros(len(ii))]),
+                 contact_flag=np.zeros(len(ii), np.int8))
     return w.finish()
 
 

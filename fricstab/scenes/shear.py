@@ -1,19 +1,43 @@
-"""The plane-shear cell of Lee & Hurley (Sec. 2): scene, preparation, shear, frames, checkpoints.
+"""The plane-shear cell of Lee & Hurley (Sec. 2) on the engine: scene, units, placement, system.
 
 A 2D cell periodic in x (box length ``lx``) between two rows of disks: the
-bottom row is fixed, the top row moves as one rigid body at the constant
-horizontal velocity V while a velocity servo holds the normal force N on it
-(LIGGGHTS-style: v_y = -g (N_target - N)).  Bulk disks: radius uniform in
-[r_min, r_max], no gravity.  Contact law: :mod:`fricstab.generated.lee_hurley`
-with the damping of :mod:`fricstab.protocols.shear_law` (Appendix A); the loop is
-:mod:`fricstab.protocols.shear_dem`.
+bottom row is fixed (engine family 1), the top row moves as one rigid body
+(family 2) at the constant horizontal velocity V while a velocity servo holds
+the normal force N on it (LIGGGHTS-style: v_y = -g (N_target - N)).  Bulk
+disks (family 0): radius uniform in [r_min, r_max], no gravity.  Any verified
+contact law (:data:`LAWS`, default ``lee_hurley``) with the contact dashpots
+of Lee & Hurley App. A (A4, A12, A20-A22) in the engine; the run itself is
+:mod:`fricstab.protocols.shear_run`.
 
 Units
 -----
 Scene values and every output (frames, series, JSON) are SI, per unit
 thickness (forces N/m, torques N m/m, masses kg/m).  Inside, reduced units:
-length L0 = mean radius (r_min + r_max)/2, pressure E* = E / (2 (1 - nu^2))
-(Eq. A3), mass per thickness rho L0^2, time T0 = L0 sqrt(rho / E*).
+length L0 = mean radius (r_min + r_max)/2, pressure E* = ``modulus`` (the
+contact modulus of Eq. A3, E* = E / (2 (1 - nu^2)) for Young's modulus E and
+Poisson ratio nu), mass per thickness rho L0^2, time T0 = L0 sqrt(rho / E*).
+
+Scene keys and law parameters
+-----------------------------
+``modulus`` (E*, Pa) is the cell's reference stiffness, whatever the law: it
+sets the pressure unit, the normal force (kappa) and the time step.  The law
+and its parameters are the keys of :class:`fricstab.io.scenes.LawChoice`, in
+SI, named as ``fricstab laws`` names them; for ``lee_hurley`` these are the
+contact modulus ``E`` (Pa; default: ``modulus``), ``nu`` (Lai's k_t),
+``mus`` and ``mur`` (they replace the scene keys ``E`` = Young's modulus,
+``nu``, ``mu_s`` and ``mu_r`` of the loop before the engine; the paper's
+E = 1 GPa, nu = 0.2 give E* = 0.5208 GPa).  The other laws' defaults (:data:`LAWS`)
+have the normal force of ``lee_hurley`` at the cell's typical overlap
+delta_0, the overlap at which ``lee_hurley`` carries the typical contact force
+f_0 = P d (2D: the mean normal force of a packing of coordination ~4 under
+pressure P = N/lx is ~ 1.9 P d); the tangential stiffness is Lai's k_t at
+delta_0 and the friction coefficient mu_s.  So ``--law NAME`` alone shears a
+packing of the same pressure, overlaps and time scales.  ``ishima`` has no
+Coulomb cap: with the matched k_t its tangential springs store so much that
+rearrangements throw the top row off the packing (quick cell, 150 disks:
+N < N_target / 2 in 6 % of the frames, rms servo error 23 %, tau from -0.3
+to 0.4); its default is a tenth of it (:data:`ISHIMA_KT_FACTOR`; rms error
+2.5 %, slips up to 3 % in tau; a hundredth leaves drops below 0.2 %).
 
 Control numbers (da Cruz et al. 2005, 2D, per unit thickness)
 --------------------------------------------------------------
@@ -24,29 +48,108 @@ Shear strain gamma = (x displacement of the top wall) / h0.
 
 Time step: dt <= dt_frac t_c with t_c = r_min sqrt(rho / (2 E*)) =
 sqrt(m*_min / (pi E*)), a lower bound of the contact time sqrt(m*/k_n)
-(k_n <= pi E* for a/R <= 1, Eq. A2); dt is then shortened so that an output
-interval dgamma is an integer number of steps.
+(``lee_hurley``: k_n <= pi E* for a/R <= 1, Eq. A2; the other laws' defaults
+have k_n below that at the overlaps of the cell); dt is then shortened so that
+an output interval dgamma is an integer number of steps.
 
 Damping: alpha_n = gamma_n = 0.1 and alpha_t = gamma_t = 0.1 are the damping
-ratios of Eqs. A4 and A12, eta_r = 0.3 of Eq. A20.  The paper's restitution
-0.9 is not used: for a linear spring-dashpot the ratio 0.1 means
+ratios of Eqs. A4 and A12, eta_r = 0.3 of Eq. A20 (the engine's dashpots,
+``System.damping``; a wall disk enters with the wall's total mass and an
+infinite inertia, ``System.damping_mass``).  The paper's restitution 0.9 is
+not used: for a linear spring-dashpot the ratio 0.1 means
 e = exp(-pi 0.1 / sqrt(1 - 0.01)) = 0.73, and e = 0.9 would need a ratio of
-0.034; we follow the damping constants the paper states (the contact law it
-details) and record the implied e in the result.
+0.034; we follow the damping constants the paper states and record the
+implied e in the result.
 """
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from fricstab.errors import NumericalError
-from fricstab.laws import ParameterError
-from fricstab.io.scenes import Field, Schema, register, validate
+from fricstab.engine import Material, System
+from fricstab.errors import ParameterError
+from fricstab.io.scenes import Derived, Field, LawChoice, Schema, register, validate
 
-__all__ = ["SCHEMA", "Units", "Cell", "make_cell", "prepare", "Shear", "restitution",
-           "PREP_STAGE_STEPS"]
+__all__ = ["SCHEMA", "LAWS", "HISTORY_UNITS", "ISHIMA_KT_FACTOR", "Units", "Cell", "make_cell", "material",
+           "restitution", "typical_overlap", "units_of"]
+
+#: Young's modulus 1 GPa and Poisson ratio 0.2 of the paper: E* = E / (2 (1 - nu^2)).
+PAPER_ESTAR = 1e9 / (2.0 * (1.0 - 0.2 ** 2))
+PAPER_NU, PAPER_MUS, PAPER_MUR = 0.2, 0.7, 0.01
+
+
+def _lee_hurley_contact(delta, nu=PAPER_NU):
+    """(f_n, k_t) of ``lee_hurley`` for two unit disks at overlap ``delta`` (E* = 1)."""
+    from fricstab.generated.lee_hurley import lee_hurley_contact
+    out = np.empty(9)
+    lee_hurley_contact(2.0 - delta, 0.0, 1.0, 1.0, 1.0, nu, PAPER_MUS, PAPER_MUR, 0.0, 0.0,
+                       out)
+    return out[5], out[3]
+
+
+def typical_overlap(kappa):
+    """delta_0 / L0 at which ``lee_hurley`` (E* = 1, R = L0) carries f_0 = P d = 2 E* L0 / kappa.
+
+    kappa >= 10 (the schema's bound) gives delta_0 <= 0.25 L0, inside the
+    domain of Lai's k_t (a/R < ~1).
+    """
+    from scipy.optimize import brentq
+    f0 = 2.0 / kappa
+    return brentq(lambda d: _lee_hurley_contact(d)[0] - f0, 1e-14, 0.4, xtol=1e-300,
+                  rtol=4 * np.finfo(float).eps)
+
+
+def _kn(v):
+    """Hertz normal stiffness [Pa m^(-1/2)] with the force of ``lee_hurley`` at delta_0."""
+    d0 = typical_overlap(v["kappa"])
+    l0 = (v["r_min"] + v["r_max"]) / 2.0
+    return _lee_hurley_contact(d0)[0] / d0 ** 1.5 * v["modulus"] / math.sqrt(l0)
+
+
+def _kt(v):
+    """Tangential stiffness [Pa m^(-1/2)]: kt sqrt(delta_0) = Lai's k_t of ``lee_hurley``."""
+    d0 = typical_overlap(v["kappa"])
+    l0 = (v["r_min"] + v["r_max"]) / 2.0
+    return _lee_hurley_contact(d0)[1] / math.sqrt(d0) * v["modulus"] / math.sqrt(l0)
+
+
+_KN = Derived(_kn, "f_n of lee_hurley at the typical overlap delta_0 (kappa) / delta_0^(3/2)")
+_KT = Derived(_kt, "Lai's k_t of lee_hurley (nu = 0.2) at delta_0 / delta_0^(1/2)")
+#: Ishima's tangential springs have no cap: a tenth of the matched k_t (module docstring).
+ISHIMA_KT_FACTOR = 0.1
+_KT_ISHIMA = Derived(lambda v: ISHIMA_KT_FACTOR * _kt(v),
+                     "0.1 x Lai's k_t of lee_hurley at delta_0 / delta_0^(1/2)")
+#: Unit of each law parameter in the scene, and its reduced unit (as a function of Units).
+PARAM_UNITS = {"E": "Pa", "nu": "-", "mus": "-", "mur": "-", "mu": "-", "Rw": "m",
+               "kn": "Pa m^(-1/2) (N/m per m^(3/2))", "kt": "Pa m^(-1/2) (N/m per m^(3/2))"}
+_REDUCE = {"E": lambda u: u.pressure, "Rw": lambda u: u.length,
+           "kn": lambda u: u.pressure / math.sqrt(u.length),
+           "kt": lambda u: u.pressure / math.sqrt(u.length)}
+
+LAWS = LawChoice(
+    default="lee_hurley",
+    defaults={
+        "lee_hurley": {"E": Derived(lambda v: v["modulus"], "modulus"), "nu": PAPER_NU,
+                       "mus": PAPER_MUS, "mur": PAPER_MUR,
+                       "Rw": Derived(lambda v: v["r_max"], "r_max (not used)")},
+        "hertz": {"kn": _KN},
+        "charan": {"kn": _KN, "kt": _KT, "mu": PAPER_MUS},
+        "ishima": {"kn": _KN, "kt": _KT_ISHIMA},
+    },
+    docs={
+        "lee_hurley": "the paper's law (App. A): E* = modulus, nu, mu_s, mu_r of Sec. 2; "
+                      "Rw (its wall form) is not used: the walls are rows of disks",
+        "hertz": "frictionless; kn gives lee_hurley's normal force at the typical overlap "
+                 "delta_0 of the preset's kappa (slips are rearrangements)",
+        "charan": "smoothed Coulomb (mu = mu_s); kn as hertz, kt sqrt(delta_0) = Lai's k_t "
+                  "of lee_hurley at delta_0; no rolling resistance",
+        "ishima": "no Coulomb cap (tangential springs never slide): kn as hertz, kt a tenth "
+                  "of charan's (with charan's, rearrangements lift the top row off); slips "
+                  "are rearrangements and rolling",
+    },
+    units=PARAM_UNITS,
+)
 
 SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (Lee & Hurley)", (
     Field("n", "int", 1000, "-", "bulk disks", low=4),
@@ -54,11 +157,11 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
     Field("r_max", "float", 1.0e-6, "m", "largest bulk radius (>= r_min)", low=0.0,
           low_open=True),
     Field("aspect", "float", 1.0, "-", "lx / height of the dense cell", low=0.1, high=10.0),
-    Field("E", "float", 1e9, "Pa", "Young's modulus", low=0.0, low_open=True),
-    Field("nu", "float", 0.2, "-", "Poisson ratio", low=0.0, high=0.49),
+    Field("modulus", "float", PAPER_ESTAR, "Pa",
+          "contact modulus E* = E/(2(1-nu^2)) of the cell (paper: E = 1 GPa, nu = 0.2): "
+          "pressure unit, N = E* lx/kappa, time step; lee_hurley's E defaults to it",
+          low=0.0, low_open=True),
     Field("density", "float", 2500.0, "kg/m^3", "density", low=0.0, low_open=True),
-    Field("mu_s", "float", 0.7, "-", "sliding friction coefficient", low=0.0, low_open=True),
-    Field("mu_r", "float", 0.01, "-", "rolling friction coefficient", low=0.0),
     Field("alpha_n", "float", 0.1, "-", "normal damping ratio (A4)", low=0.0, high=1.0),
     Field("alpha_t", "float", 0.1, "-", "tangential damping ratio (A12)", low=0.0, high=1.0),
     Field("eta_r", "float", 0.3, "-", "rolling viscous damping ratio (A20)", low=0.0, high=1.0),
@@ -90,9 +193,11 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
     Field("prep_max_steps", "int", 3_000_000, "-", "preparation step limit", low=1),
     Field("checkpoint_every", "int", 200, "frames", "checkpoint (and frame chunk) interval",
           low=1),
-)))
+), laws=LAWS))
 
-PREP_STAGE_STEPS = 500  # preparation: criteria checked every this many steps
+#: Unit (a Units attribute) of each history slot of each law, for SI frames.
+HISTORY_UNITS = {"lee_hurley": ("force", "moment"), "charan": ("length", "length"),
+                 "ishima": ("length", "length"), "hertz": ()}
 
 
 def restitution(alpha):
@@ -121,6 +226,10 @@ class Units:
         return self.pressure * self.length
 
     @property
+    def moment(self):
+        return self.force * self.length
+
+    @property
     def velocity(self):
         return self.length / self.time
 
@@ -130,9 +239,27 @@ class Units:
                 "force_N_per_m": self.force, "velocity_m_per_s": self.velocity}
 
 
-@dataclass
+def units_of(params):
+    """The reduced :class:`Units` of validated scene ``params``."""
+    return Units((params["r_min"] + params["r_max"]) / 2.0, params["modulus"],
+                 params["density"])
+
+
+def material(params, units=None):
+    """The engine :class:`Material` of ``params`` (SI; in the reduced ``units`` if given)."""
+    law = dict(params["law_params"])
+    if units is not None:
+        law = {k: v / _REDUCE[k](units) if k in _REDUCE else v for k, v in law.items()}
+    return Material(params["law"], law)
+
+
+@dataclass(frozen=True)
 class Cell:
-    """Particles of the cell in reduced units (mutable state arrays, see shear_dem)."""
+    """The placed cell in reduced units: particles, box, target force and time scale.
+
+    ``kind`` (N,) int8: 0 bulk, 1 bottom wall (fixed), 2 top wall (driven), the
+    engine's families.  ``pos`` is the random placement before compression.
+    """
 
     params: dict
     units: Units
@@ -142,25 +269,27 @@ class Cell:
     inertia: np.ndarray
     kind: np.ndarray
     pos: np.ndarray
-    vel: np.ndarray
-    angle: np.ndarray
-    omega: np.ndarray
     n_target: float
     t_c: float
 
     @property
-    def mdamp(self):
+    def damping_mass(self):
+        """Masses in the dashpots: own (bulk), the wall's total (top row), inf (bottom row)."""
         wall = self.mass[self.kind == 2].sum()
         return np.where(self.kind == 0, self.mass, np.where(self.kind == 2, wall, np.inf))
 
     @property
-    def idamp(self):
+    def damping_inertia(self):
+        """Inertias in the dashpots: own (bulk); inf for wall disks (they never rotate)."""
         return np.where(self.kind == 0, self.inertia, np.inf)
 
-    def law(self):
+    def system(self):
+        """The engine :class:`System` of the cell (reduced units, the scene's law)."""
         p = self.params
-        return np.array([1.0, p["nu"], p["mu_s"], p["mu_r"], p["alpha_n"], p["alpha_t"],
-                         p["eta_r"]])
+        return System(material(p, self.units), self.radius, self.mass, self.inertia,
+                      family=self.kind, lx=self.lx, skin=p["skin"],
+                      damping=(p["alpha_n"], p["alpha_t"], p["eta_r"]),
+                      damping_mass=self.damping_mass, damping_inertia=self.damping_inertia)
 
 
 def _wall_row(rng, lx, rmin, rmax):
@@ -173,31 +302,9 @@ def _wall_row(rng, lx, rmin, rmax):
     return r, x
 
 
-def make_cell(params):
-    """Random non-overlapping placement (seeded) of the validated ``params``; a :class:`Cell`.
-
-    The bulk disks are placed one by one (random sequential addition, largest
-    first) at area fraction ``prep_phi`` between the walls; ``lx`` is chosen
-    so that the cell at area fraction 0.82 has lx / h = ``aspect``.
-    """
-    p = validate("shear", params)
-    if p["r_max"] < p["r_min"]:
-        raise ParameterError(f"r_max = {p['r_max']:g} must be >= r_min = {p['r_min']:g}")
-    estar = p["E"] / (2.0 * (1.0 - p["nu"] ** 2))
-    units = Units((p["r_min"] + p["r_max"]) / 2.0, estar, p["density"])
-    rng = np.random.default_rng(p["seed"])
-    rmin, rmax = p["r_min"] / units.length, p["r_max"] / units.length
-    rb = np.sort(rng.uniform(rmin, rmax, p["n"]))[::-1]
-    area = math.pi * np.sum(rb ** 2)
-    lx = math.sqrt(p["aspect"] * area / 0.82)
-    if lx < 6.0 * rmax:
-        raise ParameterError(f"n = {p['n']}: the box (lx = {lx:.3g} mean radii) is narrower "
-                             "than 6 r_max; use more disks or a larger aspect")
-    r_bot, x_bot = _wall_row(rng, lx, rmin, rmax)
-    r_top, x_top = _wall_row(rng, lx, rmin, rmax)
-    h_loose = area / (p["prep_phi"] * lx)
-    y0 = r_bot.max()
-    placed = np.empty((p["n"], 2))
+def _place(rng, rb, lx, x_bot, r_bot, y0, h_loose, prep_phi):
+    """Random sequential addition of the bulk disks ``rb`` (largest first) above the floor."""
+    placed = np.empty((len(rb), 2))
     for k, r in enumerate(rb):
         for attempt in range(100000):
             if attempt and attempt % 2000 == 0:
@@ -215,7 +322,35 @@ def make_cell(params):
             placed[k] = x, y
             break
         else:  # pragma: no cover - prep_phi <= 0.5 leaves room
-            raise ParameterError(f"prep_phi = {p['prep_phi']:g}: cannot place disk {k}")
+            raise ParameterError(f"prep_phi = {prep_phi:g}: cannot place disk {k}")
+    return placed, h_loose
+
+
+def make_cell(params):
+    """Random non-overlapping placement (seeded) of the validated ``params``; a :class:`Cell`.
+
+    ``params`` is validated (and completed with defaults) here.  The bulk
+    disks are placed one by one (random sequential addition, largest first)
+    at area fraction ``prep_phi`` between the walls; ``lx`` is chosen so that
+    the cell at area fraction 0.82 has lx / h = ``aspect``.
+    """
+    p = params if "law_params" in params else validate("shear", params)
+    if p["r_max"] < p["r_min"]:
+        raise ParameterError(f"r_max = {p['r_max']:g} must be >= r_min = {p['r_min']:g}")
+    units = units_of(p)
+    rng = np.random.default_rng(p["seed"])
+    rmin, rmax = p["r_min"] / units.length, p["r_max"] / units.length
+    rb = np.sort(rng.uniform(rmin, rmax, p["n"]))[::-1]
+    area = math.pi * np.sum(rb ** 2)
+    lx = math.sqrt(p["aspect"] * area / 0.82)
+    if lx < 6.0 * rmax:
+        raise ParameterError(f"n = {p['n']}: the box (lx = {lx:.3g} mean radii) is narrower "
+                             "than 6 r_max; use more disks or a larger aspect")
+    r_bot, x_bot = _wall_row(rng, lx, rmin, rmax)
+    r_top, x_top = _wall_row(rng, lx, rmin, rmax)
+    y0 = r_bot.max()
+    placed, h_loose = _place(rng, rb, lx, x_bot, r_bot, y0, area / (p["prep_phi"] * lx),
+                             p["prep_phi"])
     y_top = y0 + h_loose + r_top.max()
     radius = np.concatenate([rb, r_bot, r_top])
     kind = np.concatenate([np.zeros(p["n"]), np.ones(len(r_bot)),
@@ -223,184 +358,6 @@ def make_cell(params):
     pos = np.concatenate([placed, np.column_stack([x_bot, np.zeros_like(x_bot)]),
                           np.column_stack([x_top, np.full_like(x_top, y_top)])])
     mass = math.pi * radius ** 2
-    n_all = len(radius)
     return Cell(params=p, units=units, lx=lx, radius=radius, mass=mass,
                 inertia=0.5 * mass * radius ** 2, kind=kind, pos=pos,
-                vel=np.zeros((n_all, 2)), angle=np.zeros(n_all), omega=np.zeros(n_all),
                 n_target=lx / p["kappa"], t_c=rmin / math.sqrt(2.0))
-
-
-class Shear:
-    """State of a run: the cell, the neighbour list with histories, forces, wall, counters.
-
-    ``Shear(cell)`` starts from a placed cell; :func:`prepare` compresses it,
-    :meth:`start_shear` sets V and the frame interval, :meth:`advance` runs
-    steps.  :meth:`state` / :meth:`from_state` give every array needed to
-    continue bit-identically (the checkpoint).
-    """
-
-    STATE = ("pos", "vel", "angle", "omega", "force", "torque", "pi", "pj", "hist", "cf",
-             "cfn", "csl", "ref", "wall", "ctrl", "scalars")
-
-    def __init__(self, cell):
-        from fricstab.protocols import shear_dem as dem
-        self.cell = cell
-        self.dem = dem
-        n = len(cell.radius)
-        self.force = np.zeros((n, 2))
-        self.torque = np.zeros(n)
-        self.pi, self.pj = dem.build_pairs(cell.pos, cell.radius, cell.kind, cell.lx,
-                                           cell.params["skin"])
-        m = len(self.pi)
-        self.hist = np.zeros((m, 4))
-        self.cf = np.zeros((m, 2))
-        self.cfn = np.zeros(m)
-        self.csl = np.zeros(m, np.int8)
-        self.ref = cell.pos.copy()
-        self.wall = np.zeros(8)
-        self.wall[4] = cell.pos[cell.kind == 1, 1].mean()
-        self.ctrl = np.zeros(8)
-        # step, frame, dt, steps per frame, h0, gamma_dot, V, rebuilds
-        self.scalars = np.zeros(8)
-        self.dt = cell.params["dt_frac"] * cell.t_c
-
-    # ---------------------------------------------------------------- state
-    def state(self):
-        c = self.cell
-        d = {"pos": c.pos, "vel": c.vel, "angle": c.angle, "omega": c.omega}
-        d.update({k: getattr(self, k) for k in self.STATE if k not in d})
-        return {k: np.array(v, copy=True) for k, v in d.items()}
-
-    def load_state(self, st):
-        c = self.cell
-        for k in ("pos", "vel", "angle", "omega"):
-            setattr(c, k, np.array(st[k], dtype=float))
-        for k in self.STATE:
-            if k not in ("pos", "vel", "angle", "omega"):
-                setattr(self, k, np.array(st[k]))
-        self.pi = self.pi.astype(np.int64)
-        self.pj = self.pj.astype(np.int64)
-        self.csl = self.csl.astype(np.int8)
-        self.dt = float(self.scalars[2]) if self.scalars[2] > 0 else self.dt
-
-    # ---------------------------------------------------------------- stepping
-    def rebuild(self):
-        """Rebuild the neighbour list now (histories carried by pair key)."""
-        c = self.cell
-        ni, nj = self.dem.build_pairs(c.pos, c.radius, c.kind, c.lx, c.params["skin"])
-        self.hist = self.dem.carry_histories(len(c.radius), self.pi, self.pj, self.hist, ni, nj)
-        keep = self.dem.carry_histories(len(c.radius), self.pi, self.pj,
-                                        np.column_stack([self.cf, self.cfn, self.csl]), ni, nj)
-        self.cf, self.cfn = keep[:, :2].copy(), keep[:, 2].copy()
-        self.csl = keep[:, 3].astype(np.int8)
-        self.pi, self.pj = ni, nj
-        self.ref = c.pos.copy()
-
-    def advance(self, nsteps):
-        """Run ``nsteps`` steps; NumericalError naming the step and item on a blow-up."""
-        c = self.cell
-        out = self.dem.run_steps(nsteps, c.pos, c.vel, c.angle, c.omega, self.force,
-                                 self.torque, c.radius, c.mass, c.inertia, c.mdamp, c.idamp,
-                                 c.kind, c.lx, self.pi, self.pj, self.hist, self.ref, self.cf,
-                                 self.cfn, self.csl, c.law(), self.dt, c.params["skin"],
-                                 self.wall, self.ctrl)
-        status, done, item, self.pi, self.pj, self.hist, self.cf, self.cfn, self.csl, nreb = out
-        step = int(self.scalars[0]) + done + 1   # 1-based number of the failing step
-        self.scalars[0] += done
-        self.scalars[7] += nreb
-        if status != self.dem.OK:
-            what = {self.dem.BAD_OVERLAP: ("overlap beyond the domain of the contact law "
-                                           "(delta >= 4 (Ri + Rj) / e^2)", "pair"),
-                    self.dem.BAD_STATE: ("non-finite position or velocity", "particle"),
-                    self.dem.BAD_FORCE: ("non-finite contact force", "pair")}[status]
-            label = (f"pair ({self.pi[item]}, {self.pj[item]})" if what[1] == "pair"
-                     else f"particle {item}")
-            raise NumericalError(f"{what[0]} of {label} at step {step}; reduce dt_frac",
-                                 step=step, item=item, quantity=what[0])
-
-    def kinetic_energy(self):
-        c = self.cell
-        b = c.kind == 0
-        return 0.5 * (np.sum(c.mass[b] * np.sum(c.vel[b] ** 2, axis=1))
-                      + np.sum(c.inertia[b] * c.omega[b] ** 2)) / b.sum()
-
-    @property
-    def height(self):
-        c = self.cell
-        return c.pos[c.kind == 2, 1].mean() - self.wall[4]
-
-    def start_shear(self):
-        """Set V, gamma_dot, dt and the steps per frame from I, kappa, dgamma (module doc)."""
-        c, p = self.cell, self.cell.params
-        h0 = self.height
-        pressure = c.n_target / c.lx
-        gamma_dot = p["inertial_number"] * math.sqrt(pressure) / 2.0  # d = 2, rho = 1
-        spf = max(1, math.ceil(p["dgamma"] / (gamma_dot * p["dt_frac"] * c.t_c)))
-        self.dt = p["dgamma"] / (gamma_dot * spf)
-        # relaxation rate g K_eff with K_eff ~ E* lx / h0 the cell stiffness
-        gain = p["servo_gain"] * h0 / (c.lx * c.t_c)
-        self.ctrl[:] = [gamma_dot * h0, c.n_target, gain, p["prep_speed"], 0.0, 0.0, 0.0, 0.0]
-        self.wall[0] = 0.0
-        self.scalars[1:7] = [0, self.dt, spf, h0, gamma_dot, gamma_dot * h0]
-        self.scalars[0] = 0
-        self.rebuild()
-
-    # ---------------------------------------------------------------- frames
-    def frame(self):
-        """The current frame in SI, as keyword arguments of ``FrameWriter.append``."""
-        c, u = self.cell, self.cell.units
-        h0 = self.scalars[4]
-        on = self.cfn > 0.0
-        ij = np.column_stack([self.pi[on], self.pj[on]]).astype(np.int32)
-        n, s = self.wall[1], self.wall[2]
-        return dict(time=self.scalars[0] * self.dt * u.time, strain=self.wall[0] / h0,
-                    normal_force=n * u.force, shear_force=s * u.force,
-                    height=self.height * u.length, pos=c.pos * u.length, angle=c.angle,
-                    vel=c.vel * u.velocity, omega=c.omega / u.time, contact_ij=ij,
-                    contact_force=self.cf[on] * u.force, contact_fn=self.cfn[on] * u.force,
-                    contact_ft=self.hist[on, 0] * u.force,
-                    contact_mr=self.hist[on, 1] * u.force * u.length,
-                    contact_sliding=(self.csl[on] & 1).astype(np.int8),
-                    tau=s / n if n > 0 else 0.0)
-
-
-def prepare(sim, progress=None):
-    """Compress the placed cell under the servo until N and the kinetic energy settle.
-
-    The top wall moves at v_y = -prep_speed (N_target - N) / N_target (clipped
-    to prep_speed); the bulk y coordinates follow the wall affinely and the
-    bulk velocities are damped at the rate 0.05 / t_c, so the disks need not
-    travel to the wall.  Ends when |N / N_target - 1| < prep_tol and the mean
-    kinetic energy per bulk disk < prep_ke P d^2 at a check (every
-    PREP_STAGE_STEPS steps); ConvergenceError after prep_max_steps.
-    Returns a dict of statistics.
-    """
-    from fricstab.scenes.packing import ConvergenceError
-    c, p = sim.cell, sim.cell.params
-    nt = c.n_target
-    sim.ctrl[:] = [0.0, nt, p["prep_speed"] / nt, p["prep_speed"], 0.05 / c.t_c, 1.0, 0, 0]
-    ke_tol = p["prep_ke"] * (nt / c.lx) * 4.0
-    t0 = time.perf_counter()
-    steps = 0
-    while True:
-        sim.advance(PREP_STAGE_STEPS)
-        steps += PREP_STAGE_STEPS
-        err = abs(sim.wall[1] / nt - 1.0)
-        ke = sim.kinetic_energy()
-        if progress is not None:
-            progress(steps, err, ke / ke_tol)
-        if err < p["prep_tol"] and ke < ke_tol:
-            break
-        if steps >= p["prep_max_steps"]:
-            raise ConvergenceError(f"preparation: after {steps} steps |N/N_target - 1| = "
-                                   f"{err:.3g} (tol {p['prep_tol']:g}), kinetic energy "
-                                   f"{ke / ke_tol:.3g} x tolerance; raise prep_max_steps")
-    sim.ctrl[4:6] = 0.0
-    c.vel[c.kind == 0] = 0.0
-    c.omega[c.kind == 0] = 0.0
-    return {"steps": steps, "seconds": time.perf_counter() - t0,
-            "normal_force_error": err, "kinetic_energy": ke,
-            "height_m": sim.height * c.units.length,
-            "area_fraction": float(np.sum(np.pi * c.radius[c.kind == 0] ** 2)
-                                   / (c.lx * sim.height)),
-            "rebuilds": int(sim.scalars[7])}

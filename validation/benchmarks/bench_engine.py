@@ -31,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 from _common import write_table  # noqa: E402
 
-from fricstab.engine import Controls, Material, System, run  # noqa: E402
+from fricstab.engine import Material, System, run  # noqa: E402
 
 
 def _old(module):
@@ -93,35 +93,20 @@ def packing_case(steps, n=1024):
 
 def shear_case(steps):
     from fricstab.cli.shear import resolve_params
-    from fricstab.scenes.shear import Shear, make_cell, prepare
+    from fricstab.protocols.shear_run import ShearRun, prepare
+    from fricstab.scenes.shear import make_cell
     p = resolve_params(None, "quick", {})
-    sim = Shear(make_cell(p))
+    sim = ShearRun(make_cell(p))
     prepare(sim)
     sim.start_shear()
-    cell = sim.cell
-    n = len(cell.radius)
-    family = np.where(cell.kind == 0, 0, np.where(cell.kind == 1, 1, 2)).astype(np.int8)
-    law = cell.law()
-    system = System(Material("lee_hurley", {"E": law[0], "nu": law[1], "mus": law[2],
-                                            "mur": law[3]}),
-                    cell.radius, cell.mass, cell.inertia, family=family, lx=cell.lx,
-                    skin=p["skin"], damping=(law[4], law[5], law[6]),
-                    damping_mass=cell.mdamp, damping_inertia=cell.idamp)
-    base = system.state(cell.pos.copy(), cell.angle.copy(), cell.vel.copy(), cell.omega.copy())
-    ctl = Controls(drive=(sim.ctrl[0], 0.0), servo=(sim.ctrl[2], sim.ctrl[1], sim.ctrl[3]))
-    dt = sim.dt
-    state0 = sim.state()
+    n = sim.system.n
+    base = sim.state.copy()
 
     def engine():
         s = base.copy()
-        run(system, s, dt, steps, ctl)
+        run(sim.system, s, sim.dt, steps, sim.controls)
         return n * steps
-
-    def old():
-        sim.load_state(state0)
-        sim.advance(steps)
-        return n * steps
-    return n, engine, (old if _old("fricstab.protocols.shear_dem") else None)
+    return n, engine, None   # the old loop (fricstab.protocols.shear_dem) is deleted
 
 
 def measure(case, repeats):

@@ -153,19 +153,24 @@ def packing_dynamics():
 # ------------------------------------------------------------------ plane shear
 
 def shear_spectrum():
-    """Spectrum of the stored stick state (histories on a cap count as sliding)."""
-    from fricstab.analysis.shear_slips import on_slide_branch
-    from fricstab.analysis.shear_spectrum import shear_spectrum as spectrum
+    """Spectrum of the stored stick state (a history on its cap is on the slide branch).
+
+    The stored histories come from the run's own units (no rounding), so the
+    generated kernels' ``>=`` puts those exactly on a cap on the slide branch
+    without the frames' CAP_REL move (fricstab.analysis.shear_spectrum).
+    """
+    from fricstab.analysis.shear_spectrum import clamped_system, recorded_state, spectrum
     with np.load(SHEAR_STATE) as z:
         s = {k: z[k] for k in z.files}
-    ij = s["contacts"]
-    ft, mr, sl, ro = on_slide_branch(s["ft"], s["mr"], s["fn"], s["radius"][ij[:, 0]],
-                                     s["radius"][ij[:, 1]], float(s["mus"]), float(s["mur"]))
-    spec = spectrum(s["pos"], s["angle"], s["radius"], s["mass"], s["inertia"],
-                    s["kind"] == 0, ij, ft, mr, float(s["lx"]), float(s["E"]), float(s["nu"]),
-                    float(s["mus"]), float(s["mur"]))
+    law = {"E": float(s["E"]), "nu": float(s["nu"]), "mus": float(s["mus"]),
+           "mur": float(s["mur"])}
+    system = clamped_system("lee_hurley", law, s["radius"], s["mass"], s["inertia"], s["kind"],
+                            float(s["lx"]))
+    state = recorded_state(system, s["pos"], s["angle"], s["contacts"],
+                           np.column_stack([s["ft"], s["mr"]]))
+    spec = spectrum(system, state)
     w = spec.eigenvalues
-    return {"n_sliding": float(sl.sum()), "n_rolling": float(ro.sum()),
+    return {"n_sliding": float(spec.n_sliding), "n_rolling": float(spec.n_rolling),
             "n_complex_pairs": float(spec.n_complex_pairs),
             "max_growth_rate": spec.max_growth_rate,
             "eig_real": np.sort(w.real).tolist()}

@@ -1,0 +1,167 @@
+"""``fricstab shear analyze|export``: analyses, slip spectra and OVITO export of a shear run.
+
+``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra]``
+    D2min, GR regions, phases and Spearman tables of the frames in DIR
+    (:func:`fricstab.analysis.shear.analyze`), then the spectrum of the
+    Jacobian before each slip (:func:`fricstab.analysis.shear_slips.slip_spectra`)
+    with the law and parameters the run recorded in ``shear.json`` (so no
+    ``--law`` here: the histories of the frames belong to that law); writes
+    ``analysis.json``, ``analysis.npz``, ``analysis.md`` and figures.
+``fricstab shear export --out DIR [--format extxyz|lammps] [--every K] [--force]``
+    The frames for OVITO (:func:`fricstab.io.export.frames_to_ovito`).
+"""
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from fricstab.errors import ParameterError
+
+__all__ = ["add_analyze_parsers", "analyze", "export", "frames_of"]
+
+
+def frames_of(out):
+    """All frames of a run directory, concatenated (:class:`fricstab.io.frames.Frames`)."""
+    from fricstab.io.frames import Frames
+    files = sorted((Path(out) / "frames").glob("chunk_*.npz"))
+    if not files:
+        raise ParameterError(f"--out: no frames in {out}/frames (run `fricstab shear run`)")
+    return Frames.concat([Frames.load(f) for f in files])
+
+
+def add_analyze_parsers(s):
+    """``analyze`` and ``export`` on the shear subparsers ``s``."""
+    a = s.add_parser("analyze", help="D2min, GR regions, phases, Spearman tables of a run")
+    a.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
+    a.add_argument("--gamma0", type=float, default=None,
+                   help="start of the analysed window (default: the run's gamma0)")
+    a.add_argument("--force", action="store_true", help="overwrite analysis.json/.npz")
+    a.add_argument("--no-progress", action="store_true", help="no progress bar")
+    a.add_argument("--no-spectra", action="store_true",
+                   help="skip the Jacobian spectrum before each slip (costs one dense "
+                        "eigenvalue problem of dof x bulk disks per slip)")
+    e = s.add_parser("export", help="write the frames of a run for OVITO")
+    e.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
+    e.add_argument("--format", choices=("extxyz", "lammps"), default="extxyz",
+                   help="extended XYZ (default) or LAMMPS dump text")
+    e.add_argument("--every", type=int, default=1, help="every k-th frame (default 1)")
+    e.add_argument("--force", action="store_true", help="overwrite an existing export")
+
+
+def analyze(ns, argv):
+    """``fricstab shear analyze``: the analyses and the slip spectra of a run (module doc)."""
+    import json
+
+    from fricstab.io.results import ResultDir
+    from fricstab.analysis.shear import analyze as analyze_frames
+    out = Path(ns.out).expanduser()
+    rec = out / "shear.json"
+    if not rec.is_file():
+        raise ParameterError(f"--out: {out} holds no complete `shear run` result (shear.json)")
+    params = json.loads(rec.read_text())["parameters"]
+    gamma0 = params["gamma0"] if ns.gamma0 is None else ns.gamma0
+    if not (math.isfinite(gamma0) and gamma0 >= 0):
+        raise ParameterError(f"--gamma0 must be a finite number >= 0, got {gamma0!r}")
+    rd = ResultDir(out, "analysis", force=ns.force, outputs=("analysis.npz",))
+    frames = frames_of(out)
+    with rd.stage("analyze"):
+        res = analyze_frames(frames, gamma0, progress=not ns.no_progress and sys.stderr.isatty())
+    numbers, arrays = res.to_json(), res.npz_arrays()
+    if not ns.no_spectra:
+        from fricstab.analysis.shear_slips import slip_spectra
+        with rd.stage("slip spectra"):
+            spectra = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], params,
+                                   progress=not ns.no_progress and sys.stderr.isatty())
+        numbers["slip_spectra"] = spectra.summary()
+        arrays.update(spectra.arrays())
+    rd.write_npz("analysis.npz", **arrays)
+    _analysis_outputs(rd, frames, res, numbers, arrays)
+    doc = rd.finish(numbers, parameters={"gamma0": gamma0, "run": str(out)}, argv=argv)
+    s = doc.get("summary", {})
+    sp = doc.get("slip_spectra")
+    extra = (f"; {sp['slips_with_complex_pairs']} of {sp['n_slips']} slips follow a state "
+             f"with complex pairs" if sp else "")
+    print(f"analysis: {s.get('n_phases')} phases in {s.get('n_steps')} steps{extra}; wrote "
+          f"{out}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
+    return 0
+
+
+def _analysis_outputs(rd, frames, res, numbers, arrays):
+    """analysis.md (Spearman tables) and the figures of Figs. 2, 8-10 and the slip spectra."""
+    from fricstab.figures import shear as sf
+    from fricstab.analysis.shear import tables_markdown
+    t = res.tables
+    text = [f"# Plane shear analysis of {rd.path}", "",
+            "Spearman rho (p-value, n) of Delta tau / Delta tau_p per bin; struck through: "
+            "p > 0.05 (omitted in the paper's figures).", "",
+            tables_markdown({"Delta tau per step (Fig. 9a)": t["step_dtau"],
+                             "all phases (Fig. 9b)": t["phase_all"],
+                             "long phases, t_p > 3 dgamma (Fig. 10a)": t["phase_long"],
+                             "short phases (Fig. 10b)": t["phase_short"],
+                             "Delta tau_p - t_p (Fig. 10c)": t["phase_tp"]},
+                            "Lee & Hurley correlations")]
+    sp = numbers.get("slip_spectra")
+    if sp:
+        c = sp["correlations_with_following_dtau_p"]
+        text += ["", tables_markdown({"all slips": {k: [{"lo": -1.0, "hi": 0.0, **v}]
+                                                    for k, v in c["all"].items()},
+                                      "binned by Delta tau_p": c["binned"]},
+                                     "Jacobian before each slip against its Delta tau_p")]
+    md = "\n".join(text) + "\n"
+    rd.write_with("analysis.md", lambda tmp: Path(tmp).write_text(md))
+    rd.write_png("analysis_stress_strain.png",
+                 lambda path: sf.fig_stress_strain(frames, path, result=res))
+    rd.write_png("analysis_steps.png", lambda path: sf.fig_step_panels(res, path))
+    rd.write_png("analysis_spearman_phases.png",
+                 lambda path: sf.fig_spearman_bins(t["phase_all"], path, "all phases"))
+    steps = res.summary.get("largest_drop_steps")
+    if steps:      # Figs. 3-7 at the first step of the largest slip
+        k = int(steps[0])
+        for name, draw in (("d2min", sf.fig_d2min_map), ("gr", sf.fig_gr_clusters),
+                           ("forces", sf.fig_force_network),
+                           ("dforces", sf.fig_differential_network),
+                           ("nonaffine", sf.fig_nonaffine)):
+            rd.write_png(f"analysis_map_{name}.png",
+                         lambda path, draw=draw: draw(frames, k, path))
+        rd.write_png("analysis_steps_largest_slip.png",
+                     lambda path: sf.fig_step_panels(res, path,
+                                                     (max(k - 20, 1), min(int(steps[1]) + 20,
+                                                                          frames.n_frames))))
+    if sp:
+        rd.write_png("analysis_slip_spectra.png",
+                     lambda path: _spectra_figure(arrays, path))
+
+
+def _spectra_figure(a, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    d = np.asarray(a.get("slip_dtau_p", []))
+    fig, ax = plt.subplots(1, 2, figsize=(8, 3.2), constrained_layout=True)
+    ax[0].set_title("Jacobian before each slip")
+    for axis, key, label in ((ax[0], "slip_n_complex_pairs", "complex pairs"),
+                             (ax[1], "slip_max_growth_rate", "largest growth rate (1/s)")):
+        if key in a and d.size:
+            axis.scatter(-d, a[key], s=6)
+        axis.set_xscale("log")
+        axis.set_xlabel(r"$-\Delta\tau_p$ of the following slip")
+        axis.set_ylabel(label)
+    fig.savefig(path, format="png", dpi=120)
+    plt.close(fig)
+
+
+def export(ns):
+    """``fricstab shear export``: the frames of a run for OVITO."""
+    from fricstab.io.export import frames_to_ovito
+    out = Path(ns.out).expanduser()
+    if ns.every < 1:
+        raise ParameterError(f"--every must be >= 1, got {ns.every}")
+    frames = frames_of(out)
+    name = out / ("frames.xyz" if ns.format == "extxyz" else "frames.dump")
+    if name.exists() and not ns.force:
+        raise ParameterError(f"{name} exists; use --force to overwrite")
+    frames_to_ovito(frames.subset(np.arange(0, frames.n_frames, ns.every)), name, ns.format)
+    print(f"wrote {name} ({len(range(0, frames.n_frames, ns.every))} frames)")
+    return 0
