@@ -116,18 +116,3 @@ def test_g_three_routes_agree_n1024(seed):
         assert abs(r.g_modes / r.g - 1) < 1e-8
         assert abs(s.g - r.g) <= s.error < 1e-2 * r.g
 
-
-def test_readme_example_runs_as_written(capsys):
-    """The README's worked example (validation/packing_example.py), executed as a script.
-
-    Its claims: Newton converges to the force threshold, and the histories of
-    the strained state make complex-conjugate pairs of M^-1 K (measured: 2 at
-    N = 128, phi = 0.86, seed 0; the count is discrete, the threshold 1e-10
-    of max|lambda| far below the pairs' |Im| ~ 1e-4 max|lambda|).
-    """
-    import runpy
-    from pathlib import Path
-    runpy.run_path(str(Path(__file__).with_name("packing_example.py")), run_name="__main__")
-    out = capsys.readouterr().out.splitlines()
-    assert len(out) == 2 and "Newton iterations" in out[0]
-    assert "378 eigenvalues" in out[1] and " 2 complex-conjugate pairs" in out[1]

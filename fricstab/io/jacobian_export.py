@@ -12,7 +12,8 @@
     (W, 2) ``(y0, direction)``, ``wall_of`` (K,) (the wall of a wall contact,
     -1 for a pair), ``history`` (K, h), ``law`` (its name), ``param_names``
     and ``param_values`` (the pair law's, then the wall form's extra ones),
-    ``external`` (N, 3) the applied generalized forces;
+    ``external`` (N, 3) the applied generalized forces (``param_names`` has the
+    wall form's own parameters, e.g. ``Rw``, only where the scene has a wall);
 ``jacobian.npz``
     ``K = dF/dq`` over the free particles' dof, with the histories advanced by
     the increment rule (``scipy.sparse.save_npz``, CSR);
@@ -59,8 +60,10 @@ def write_state_jacobian(out_dir, system, state, units=None, extra=None, extra_a
     pos, theta = system.positions(state)
     c = state.contacts
     mat = system.material
-    names = list(mat.info.params) + list(mat.wall_params)
-    values = list(system._p) + list(system._pw[len(system._p):])
+    names, values = list(mat.info.params), list(system._p)
+    if len(system.walls):   # the wall form's own parameters (lee_hurley's Rw) where it is used
+        names += list(mat.info.wall_form().params[len(names):])
+        values += list(system._pw[len(system._p):])
     arrays = dict(pos=pos, theta=theta, radius=system.radius, mass=system.mass,
                   inertia=system.inertia, family=system.family,
                   box=np.array([system.lx, system.ly], float), le_offset=float(state.shift),
