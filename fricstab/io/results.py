@@ -25,7 +25,6 @@ written as ``null`` (strict JSON).
 import contextlib
 import functools
 import json
-import math
 import os
 import platform
 import shlex

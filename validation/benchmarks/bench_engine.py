@@ -80,13 +80,12 @@ def packing_case(steps, n=1024):
         return n * steps
 
     pdyn = _old("fricstab.protocols.pack_dynamics")
-    old = None
-    if pdyn is not None:
-        def old():
-            st = pdyn.init_state(p.pos, radius, p.box, 1.0, velocity=v)
-            pdyn.run(st, 0.02, steps)
-            return n * steps
-    return n, engine, old
+
+    def old():
+        st = pdyn.init_state(p.pos, radius, p.box, 1.0, velocity=v)
+        pdyn.run(st, 0.02, steps)
+        return n * steps
+    return n, engine, (old if pdyn is not None else None)
 
 
 # ---------------------------------------------------------------- plane shear
