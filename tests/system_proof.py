@@ -24,7 +24,8 @@ import numpy as np
 from fricstab.engine.jacobian import jacobian
 from fricstab.laws import get_law
 
-__all__ = ["complex_step_jacobian", "central_jacobian", "free_dofs", "reference_forces"]
+__all__ = ["WorstErrors", "complex_step_jacobian", "central_jacobian", "free_dofs",
+           "reference_forces"]
 
 GEOMETRY = {"dx", "dy", "Ri", "Rj", "y", "R"}
 
@@ -134,3 +135,36 @@ def central_jacobian(system, state, h, free_only=True):
 def engine_jacobian(system, state, free_only=True):
     """The engine's assembled Jacobian, dense."""
     return jacobian(system, state, free_only)[1].toarray()
+
+
+class WorstErrors:
+    """The worst errors a proof module met, per law, for validation/RESULTS.md.
+
+    ``record(law, complex_step=..., central=..., ...)`` keeps the maximum of
+    each error (relative to max |K|; ``central_over_bound`` is the largest
+    ratio of a central-difference error to its error model; ``zero_mode`` the
+    largest ``|K e| / max|K|`` of a translation, in eps).  A module's last test
+    calls :meth:`report`, which prints one line per law (``pytest -s``).
+    """
+
+    KEYS = ("complex_step", "central", "central_over_bound", "zero_mode")
+
+    def __init__(self, laws):
+        self.by_law = {law: dict.fromkeys(self.KEYS, 0.0) | {"cases": 0} for law in laws}
+
+    def record(self, law, **errors):
+        w = self.by_law[law]
+        w["cases"] += 1
+        for key, value in errors.items():
+            w[key] = max(w[key], float(value))
+
+    def lines(self):
+        return [f"{law:10s} cases {w['cases']:4d}  complex step {w['complex_step']:.1e}  "
+                f"central {w['central']:.1e} (error / model <= {w['central_over_bound']:.2f})"
+                + (f"  translations {w['zero_mode']:.1f} eps" if w["zero_mode"] else "")
+                for law, w in self.by_law.items()]
+
+    def report(self, scene, capsys):
+        with capsys.disabled():
+            print(f"\n{scene}: worst errors relative to max|K|:\n  " + "\n  ".join(self.lines()))
+        assert all(w["complex_step"] <= 1e-10 for w in self.by_law.values()), self.lines()

@@ -29,7 +29,8 @@ from fricstab._numerics import cylinder_lambda
 from fricstab.laws import PAIR_LAW_NAMES
 from fricstab.scenes.chain import ChainScene, chain_system, rest_overlap
 
-from tests.system_proof import central_jacobian, complex_step_jacobian, engine_jacobian
+from tests.system_proof import (
+    WorstErrors, central_jacobian, complex_step_jacobian, engine_jacobian)
 
 EPS = float(np.finfo(float).eps)
 R = 0.5
@@ -40,8 +41,7 @@ STEPS = tuple(10.0 ** -k for k in range(4, 14))
 #: through both of its particles, and the truncation constants are those of
 #: the leading term only.
 KAPPA = 4.0
-WORST = {law: {"complex_step": 0.0, "central": 0.0, "central_over_model": 0.0, "cases": 0}
-         for law in PAIR_LAW_NAMES}
+WORST = WorstErrors(PAIR_LAW_NAMES)
 
 
 def _overlap_values():
@@ -232,19 +232,16 @@ def _check(law, scene, system, state):
     fds = {int(b): central_jacobian(system, state, STEPS[b]) for b in np.unique(best)}
     err_col = np.array([np.abs(k[:, j] - fds[int(b)][:, j]).max() for j, b in enumerate(best)])
     bound = models[best, np.arange(len(best))]
-    w = WORST[law]
-    w["cases"] += 1
-    w["complex_step"] = max(w["complex_step"], err_cs)
-    w["central"] = max(w["central"], float(err_col.max() / scale))
-    w["central_over_model"] = max(w["central_over_model"], float((err_col / bound).max()))
+    WORST.record(law, complex_step=err_cs, central=err_col.max() / scale,
+                 central_over_bound=(err_col / bound).max())
     # Complex step of the reference assembly: each block rounds to ~64 eps of
     # its terms (fricstab verify, ROUNDING_ULPS) and a dof sums <= 3 blocks;
     # terms up to ~1e3 max|K| where an overlap of 1e-12 R meets a history on
     # its cap (delta^(-1/2) factors): 1e-10 of max|K| leaves >= 1e2 to spare.
-    assert err_cs <= 1e-10, f"{law}: complex step {err_cs:.2e}; worst so far {WORST}"
+    assert err_cs <= 1e-10, f"{law}: complex step {err_cs:.2e}; worst so far {WORST.lines()}"
     assert np.all(err_col <= bound), (
         f"{law}: central {err_col.max():.2e} > model at column "
-        f"{int(np.argmax(err_col / bound))}; worst so far {WORST}")
+        f"{int(np.argmax(err_col / bound))}; worst so far {WORST.lines()}")
 
 
 @pytest.mark.parametrize("law", PAIR_LAW_NAMES)
@@ -259,9 +256,4 @@ def test_chain_jacobian_matches_complex_step_and_central(law):
 
 def test_worst_errors_per_law(capsys):
     """Prints the worst errors the proof met (run after the parametrized tests)."""
-    lines = [f"{law:10s} cases {w['cases']:4d}  complex step {w['complex_step']:.1e}  "
-             f"central {w['central']:.1e} (max error / model {w['central_over_model']:.2f})"
-             for law, w in WORST.items()]
-    with capsys.disabled():
-        print("\nworst errors relative to max|K|:\n" + "\n".join(lines))
-    assert all(w["complex_step"] <= 1e-10 for w in WORST.values()), lines
+    WORST.report("chain", capsys)

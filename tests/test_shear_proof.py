@@ -29,7 +29,8 @@ from hypothesis import strategies as st
 from fricstab.engine import Material, System
 from fricstab.generated.dispatch import N_HIST
 
-from tests.system_proof import central_jacobian, complex_step_jacobian, engine_jacobian
+from tests.system_proof import (
+    WorstErrors, central_jacobian, complex_step_jacobian, engine_jacobian)
 
 EPS = np.finfo(float).eps
 #: Laws in the cell's reduced units (E* = 1, L0 = 1; kn, kt of the quick preset's order).
@@ -40,6 +41,7 @@ LAWS = {"lee_hurley": {"E": 1.0, "nu": 0.2, "mus": 0.7, "mur": 0.01},
 #: History modes: 0, inside the cap, exactly on it, past it.
 MODES = ("zero", "inside", "at", "past")
 H_FD = 1e-7
+WORST = WorstErrors(sorted(LAWS))
 
 
 def _disk_on(rng, parent, r, overlap, pos, radius, lx):
@@ -206,15 +208,21 @@ def test_cell_jacobian_is_proven_for_every_law(law, data):
     k = engine_jacobian(system, state)
     scale = np.abs(k).max()
     assume(scale > 0)
-    assert np.abs(k - complex_step_jacobian(system, state, 1.0)).max() <= 1e-10 * scale
+    err_cs = np.abs(k - complex_step_jacobian(system, state, 1.0)).max() / scale
     fd = central_jacobian(system, state, H_FD)
     bound, checked = central_bound(system, state, H_FD)
-    assert np.all((np.abs(fd - k) <= bound + 1e-14 * scale) | ~checked)
+    err_fd = np.where(checked, np.abs(fd - k), 0.0)
     full = engine_jacobian(system, state, free_only=False)
+    zero = 0.0
     for axis in (0, 1):
         e = np.zeros(full.shape[0])
         e[axis::system.dof] = 1.0
-        assert np.abs(full @ e).max() <= 32 * EPS * np.abs(full).max()
+        zero = max(zero, np.abs(full @ e).max() / np.abs(full).max() / EPS)
+    WORST.record(law, complex_step=err_cs, central=err_fd.max() / scale,
+                 central_over_bound=(err_fd / (bound + 1e-14 * scale)).max(), zero_mode=zero)
+    assert err_cs <= 1e-10
+    assert np.all(err_fd <= bound + 1e-14 * scale)
+    assert zero <= 32
 
 
 def test_clean_states_are_checked_tightly_by_central_differences():
@@ -236,3 +244,8 @@ def test_clean_states_are_checked_tightly_by_central_differences():
             state.contacts.hist[:, :nh] = 0.5 * caps * rng.uniform(-1, 1, (state.contacts.n, nh))
         k = engine_jacobian(system, state)
         assert np.abs(central_jacobian(system, state, H_FD) - k).max() <= 1e-6 * np.abs(k).max()
+
+
+def test_worst_errors_per_law(capsys):
+    """Prints the worst errors the proof met (run after the tests above)."""
+    WORST.report("plane-shear cell", capsys)

@@ -73,7 +73,7 @@ def test_fig3_4_7_transition_to_sliding_at_0_083():
 def test_fig5_wave_speeds_agree_with_the_full_tier():
     """V1 at F_x = 0.09 from 10 realizations against the full tier (25).
 
-    Full tier (validation/chain_waves.md): V1 = 0.00207 +- 0.00028.
+    Full tier (validation/chain_waves.md): V1 = 0.00239 +- 0.00038.
     Statistical tolerance: 3 combined standard errors (this tier's bootstrap
     error and the full tier's).  V2 scatters more than its bootstrap error
     between disjoint sets of 10 realizations (0.050 to 0.135), so only its sign
@@ -82,7 +82,7 @@ def test_fig5_wave_speeds_agree_with_the_full_tier():
     eq = ramped_equilibrium(SCENE, 0.09)
     reals = [run_realization(SCENE.with_fx(0.09), eq, seed) for seed in range(10)]
     fit = fit_waves(reals, n_boot=200)
-    assert abs(fit.v1 - 0.00207) < 3 * np.hypot(fit.v1_err, 0.00028)
+    assert abs(fit.v1 - 0.00239) < 3 * np.hypot(fit.v1_err, 0.00038)
     assert fit.v2 > 0
 
 
