@@ -172,6 +172,35 @@ def test_restart_from_saved_state_is_bit_identical(law):
     assert full.steps == 400
 
 
+@pytest.mark.parametrize("law", ["charan", "ishima"])
+def test_chunks_and_signals(law, monkeypatch):
+    """Returning to Python every CHUNK particle-steps changes no bit (Verlet with
+    records and drag, FIRE), and a pending SIGTERM stops a run at a chunk's end."""
+    import signal
+    import sys
+
+    from fricstab import signals
+    from fricstab.engine import verlet
+    system, state = _packing(law, n=25, box=5.5)
+    state.v[:, :2] = np.random.default_rng(3).normal(scale=0.05, size=(system.n, 2))
+    results = []
+    for chunk in (1 << 30, 25 * 7):    # one call, and a return every 7 steps
+        monkeypatch.setattr(verlet, "CHUNK", chunk)
+        monkeypatch.setattr(sys.modules["fricstab.engine.fire"], "CHUNK", chunk)
+        a = state.copy()
+        rec = run(system, a, 0.01, 300, Controls(drag=0.5), record_every=10)
+        b = state.copy()
+        it, res = fire(system, b, 1e-9, 3000)
+        results.append((a.q, a.v, a.contacts.hist, rec.q, b.q, b.contacts.hist, it, res))
+    for x, y in zip(*results):
+        assert np.array_equal(x, y)
+    with signals.interruptible():
+        signals._handler(signal.SIGTERM, None)   # as if the signal had arrived
+        with pytest.raises(signals.Interrupted) as err:
+            run(system, state.copy(), 0.01, 300)
+    assert err.value.exit_code == 143 and "at step 0" in str(err.value)
+
+
 def test_fire_and_newton_relax_a_frictionless_packing():
     """FIRE to max|F| < 1e-10, then Newton to 1e-14 (quadratic: few iterations)."""
     system, state = _packing("hertz", n=40, box=5.0, shift=0.0)

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from fricstab.errors import ParameterError
-from fricstab.io import rundir, signals
+from fricstab import signals
+from fricstab.io import rundir
 from fricstab.io.results import ResultDir
 
 

@@ -61,6 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
+from fricstab import signals
 from fricstab.analysis.shear_phases import (PAPER_BINS, binned_spearman, find_phases,
                                             phase_metrics, phase_summary, spearman_cell,
                                             step_metrics, tables_markdown)
@@ -355,6 +356,7 @@ def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr
     ratt_prev = rattler_mask(frames, start - 1)
     smax_prev = _max_principal(particle_stress(frames, start - 1))
     for k in tqdm(range(start, stop), disable=not progress, desc="shear analysis"):
+        signals.check(f" at frame {k}")
         ratt = rattler_mask(frames, k)
         arr["n_rattlers"][k] = int(ratt.sum())
         d2 = d2min(frames.pos[k - 1], frames.pos[k], frames.lx, rcut, ~ratt_prev)

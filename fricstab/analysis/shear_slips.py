@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fricstab import signals
 from fricstab.errors import ParameterError
 
 __all__ = ["SlipSpectra", "slip_spectra"]
@@ -117,6 +118,7 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False):
     cols = {k: [] for k in ("n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue",
                             "n_sliding", "n_rolling")}
     for p in tqdm(slips, desc="slip spectra", unit="slip", disable=not progress):
+        signals.check()
         k = int(phases[p, 0]) - 1
         ij, _, _, hist, flag = frames.contacts(k)
         state = recorded_state(system, frames.pos[k], frames.angle[k], ij, hist, flag)

@@ -335,7 +335,7 @@ def _log_internal(ns, exc):
 
 def main(argv=None):
     """Entry point; returns the exit status (see the module docstring)."""
-    from fricstab.io import signals
+    from fricstab import signals
     from fricstab.io.results import release_all
     try:
         with signals.interruptible():
@@ -348,7 +348,7 @@ def _main(argv):
     argv = list(sys.argv[1:] if argv is None else argv)
     ns = None
     debug = "--debug" in argv or os.environ.get("FRICSTAB_DEBUG") == "1"
-    from fricstab.io.signals import Interrupted
+    from fricstab.signals import Interrupted
     try:
         ns = _parser().parse_args(argv)
         quiet = getattr(ns, "quiet", False)

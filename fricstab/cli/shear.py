@@ -195,10 +195,10 @@ def run_shear(params, out, *, resume=False, force=False, progress=False, argv=No
     from fricstab.scenes.shear import HISTORY_UNITS, make_cell
 
     rd = ResultDir(out, "shear", force=force, resume=resume,
-                   outputs=("frames", "checkpoints", "shear.npz"))
+                   outputs=("frames", "checkpoints", "shear.npz"), fingerprint=params)
     rd.create()
-    (rd.path / "frames").mkdir(exist_ok=True)
-    ck = Checkpointer(rd.path / "checkpoints", fingerprint=params)
+    rd.register("frames", folder=True).mkdir(exist_ok=True)
+    ck = Checkpointer(rd.checkpoints(), fingerprint=params)
     last = ck.latest() if resume else None
     cell = make_cell(params)
     sim = ShearRun(cell)

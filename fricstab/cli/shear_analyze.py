@@ -23,9 +23,21 @@ __all__ = ["add_analyze_parsers", "analyze", "export", "frames_of"]
 
 
 def frames_of(out):
-    """All frames of a run directory, concatenated (:class:`fricstab.io.frames.Frames`)."""
+    """All frames of a complete run directory, concatenated (:class:`fricstab.io.frames.Frames`).
+
+    The run's record is checked first (:func:`fricstab.io.rundir.verify`): a
+    missing, damaged or foreign frame chunk, or an interrupted run, is refused
+    with one line naming it; the chunks read are those the record lists.
+    """
+    from fricstab.io import rundir
     from fricstab.io.frames import Frames
-    files = sorted((Path(out) / "frames").glob("chunk_*.npz"))
+    out = Path(out).expanduser()
+    record = rundir.verify(out, "shear")
+    listed = record.get("files")
+    if isinstance(listed, dict):
+        files = [out / rel for rel in sorted(listed) if rel.startswith("frames/")]
+    else:   # a record from before manifests: the chunks on disk
+        files = sorted((out / "frames").glob("chunk_*.npz"))
     if not files:
         raise ParameterError(f"--out: no frames in {out}/frames (run `fricstab shear run`)")
     return Frames.concat([Frames.load(f) for f in files])
@@ -57,15 +69,16 @@ def analyze(ns, argv):
     from fricstab.io.results import ResultDir
     from fricstab.analysis.shear import analyze as analyze_frames
     out = Path(ns.out).expanduser()
-    rec = out / "shear.json"
-    if not rec.is_file():
-        raise ParameterError(f"--out: {out} holds no complete `shear run` result (shear.json)")
-    params = json.loads(rec.read_text())["parameters"]
+    frames = frames_of(out)    # checks the run's manifest first
+    run = json.loads((out / "shear.json").read_text())
+    params = run["parameters"]
     gamma0 = params["gamma0"] if ns.gamma0 is None else ns.gamma0
     if not (math.isfinite(gamma0) and gamma0 >= 0):
         raise ParameterError(f"--gamma0 must be a finite number >= 0, got {gamma0!r}")
-    rd = ResultDir(out, "analysis", force=ns.force, outputs=("analysis.npz",))
-    frames = frames_of(out)
+    setting = {"gamma0": gamma0, "spectra": not ns.no_spectra,
+               "run": run.get("fingerprint", {}).get("sha256")}
+    rd = ResultDir(out, "analysis", force=ns.force, outputs=("analysis.npz",),
+                   fingerprint=setting).create()
     with rd.stage("analyze"):
         res = analyze_frames(frames, gamma0, progress=not ns.no_progress and sys.stderr.isatty())
     numbers, arrays = res.to_json(), res.npz_arrays()
@@ -78,7 +91,7 @@ def analyze(ns, argv):
         arrays.update(spectra.arrays())
     rd.write_npz("analysis.npz", **arrays)
     _analysis_outputs(rd, frames, res, numbers, arrays)
-    doc = rd.finish(numbers, parameters={"gamma0": gamma0, "run": str(out)}, argv=argv)
+    doc = rd.finish(numbers, parameters={**setting, "run_dir": str(out)}, argv=argv)
     s = doc.get("summary", {})
     sp = doc.get("slip_spectra")
     extra = (f"; {sp['slips_with_complex_pairs']} of {sp['n_slips']} slips follow a state "
@@ -153,15 +166,19 @@ def _spectra_figure(a, path):
 
 
 def export(ns):
-    """``fricstab shear export``: the frames of a run for OVITO."""
+    """``fricstab shear export``: the frames of a run for OVITO (record ``export.json``)."""
     from fricstab.io.export import frames_to_ovito
+    from fricstab.io.results import ResultDir
     out = Path(ns.out).expanduser()
     if ns.every < 1:
         raise ParameterError(f"--every must be >= 1, got {ns.every}")
     frames = frames_of(out)
-    name = out / ("frames.xyz" if ns.format == "extxyz" else "frames.dump")
-    if name.exists() and not ns.force:
-        raise ParameterError(f"{name} exists; use --force to overwrite")
-    frames_to_ovito(frames.subset(np.arange(0, frames.n_frames, ns.every)), name, ns.format)
-    print(f"wrote {name} ({len(range(0, frames.n_frames, ns.every))} frames)")
+    name = "frames.xyz" if ns.format == "extxyz" else "frames.dump"
+    setting = {"format": ns.format, "every": ns.every}
+    rd = ResultDir(out, "export", force=ns.force, outputs=("frames.xyz", "frames.dump"),
+                   fingerprint=setting).create()
+    keep = np.arange(0, frames.n_frames, ns.every)
+    frames_to_ovito(frames.subset(keep), rd.file(name), ns.format)   # written atomically
+    rd.finish({"frames": len(keep), "file": name}, parameters=setting)
+    print(f"wrote {out / name} ({len(keep)} frames)")
     return 0

@@ -17,8 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fricstab import signals
 from fricstab._numba import hot_jit
 from fricstab.engine import passes
+from fricstab.engine.verlet import CHUNK
 from fricstab.errors import NumericalError
 
 __all__ = ["FireParameters", "fire"]
@@ -46,8 +48,9 @@ class FireParameters:
 @hot_jit
 def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, idamp, family,
           ext, lx, ly, shift, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, meas,
-          par, sv, it0, max_iter, tol, work):
-    """FIRE iterations from ``it0``; ``sv = [dt, chi, n_pos]`` carried between calls.
+          par, sv, it0, stop, max_iter, tol, work):
+    """FIRE iterations ``it0 .. stop`` (of ``max_iter``); ``sv = [dt, chi, n_pos]``
+    carried between calls, so iterations split over calls are those of one call.
 
     Returns ``(iteration, status, residual)``; REBUILD after a position update
     that may have moved a particle half the skin (the caller rebuilds and
@@ -58,7 +61,7 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
     f_inc, f_dec, f_alpha, a_start, n_min, dt_max = par[2], par[3], par[4], par[5], par[6], par[1]
     lim = skin * skin
     res = np.inf
-    for it in range(it0, max_iter + 1):
+    for it in range(it0, stop + 1):
         passes.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly,
                             shift, 0.0, 0.0, damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
                             new, dof, meas, work, False, False)
@@ -123,7 +126,7 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
             sv[0], sv[1], sv[2] = dt, chi, n_pos
             return it + 1, REBUILD, res
     sv[0], sv[1], sv[2] = dt, chi, n_pos
-    return max_iter + 1, OK, res
+    return min(stop, max_iter) + 1, OK, res
 
 
 def fire(system, state, tol, max_iter, params=FireParameters()):
@@ -143,7 +146,12 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
     par = params.array()
     sv = np.array([par[0], par[5], 0.0])
     it = 0
+    chunk = max(1, CHUNK // max(n, 1))
+    end = -1
     while True:
+        if it > end and end < max_iter:   # the start, or a chunk of iterations done
+            signals.check(f" in FIRE iteration {it}")
+            end = min(max_iter, it + chunk - 1)
         c = state.contacts
         it, status, res = _fire(system.law_id, system._p, system._pw, system.walls, state.q,
                                 state.v, f, new, dq, system.gmass, system.radius, system.rscale,
@@ -151,11 +159,13 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
                                 system.external, float(system.lx), float(system.ly),
                                 float(state.shift), c.i, c.j, c.m, c.k, c.hist, c.flag, c.out,
                                 state.ref, float(system.skin), system.dof, system.damping, meas,
-                                par, sv, it, max_iter, float(tol), work)
+                                par, sv, it, end, max_iter, float(tol), work)
         if status == REBUILD:
             system.rebuild(state)  # the histories are carried; dq is applied next
             continue
         if status == BAD_FORCE:
             raise NumericalError(f"non-finite contact force in FIRE iteration {it}",
                                  step=int(it), quantity="contact force")
+        if status == OK and it <= max_iter:
+            continue   # the end of a chunk, not of max_iter
         return it, res

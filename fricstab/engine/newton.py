@@ -32,6 +32,7 @@ import numpy as np
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
+from fricstab import signals
 from fricstab.engine.jacobian import jacobian
 from fricstab.errors import ConvergenceError
 
@@ -137,6 +138,7 @@ def newton(system, state, tol, max_iter=60, solver="auto", max_step=None, raise_
                                 len(np.setdiff1d(before, after)))
         if it == max_iter:
             break
+        signals.check(f" in Newton iteration {it}")
         dq = _solve(system, k, f, solver)
         if not np.all(np.isfinite(dq)):
             if not raise_on_failure:

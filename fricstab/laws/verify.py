@@ -32,6 +32,7 @@ from dataclasses import asdict
 import mpmath
 import numpy as np
 
+from fricstab import signals
 from fricstab.laws import get_law
 from fricstab.laws.verify_common import (  # the shared part; re-exported (see __all__)
     CENTRAL_BOUND, CENTRAL_STEPS, COMPLEX_STEP, EXACT_BOUND, EXTREMES, MP_DPS, MP_STEP,
@@ -353,6 +354,7 @@ def verify_law(name, cases, seed, progress=None, radius=0.5, kn=1.0):
                 exact_conditioned[key] = max(exact_conditioned[key], res[key])
         if progress is not None:
             progress.update(1)
+        signals.check()
     slopes = np.array(slopes)
     finite_slopes = slopes[np.isfinite(slopes)]
     return {

@@ -54,6 +54,7 @@ from dataclasses import asdict
 import mpmath
 import numpy as np
 
+from fricstab import signals
 from fricstab._numerics import contact_halfwidth
 from fricstab.generated import lee_hurley as _gen
 from fricstab.generated import lee_hurley_wall as _gen_wall
@@ -428,6 +429,7 @@ def verify_cases(cases, seed, progress=None, law="lee_hurley"):
             s["taylor_slope_min"] = min(s["taylor_slope_min"], res["taylor_slope"])
         if progress is not None:
             progress.update(1)
+        signals.check()
     return {"law": law, "cases": len(cases), "seed": seed, "regimes": summary}
 
 
