@@ -71,6 +71,21 @@ def test_neighbour_search_finds_every_pair_once(n, lx, ly, shift, skin, seed, un
     assert np.all(np.diff(keys) > 0)  # sorted by key, unique
 
 
+@pytest.mark.parametrize("box", [3.0, 3.0 * (1 + 1e-11), 3.0 * (1 + 1e-9)])
+def test_a_box_of_exactly_three_cutoffs_lists_each_pair_once(box):
+    """At lx = 3 cutoffs the cell list would have 2 cells (its widths carry a 1e-10
+    margin), where neighbour cells -1 and +1 coincide: the all-images branch takes
+    it (found by hypothesis in tests/test_packing.py: box 3, radii 0.5, skin 0)."""
+    rng = np.random.default_rng(1)
+    q = np.zeros((12, 3))
+    q[:, :2] = rng.uniform(0, box, (12, 2))
+    radius = np.where(np.arange(12) % 2, 0.5, 0.5 / 1.4)
+    free = np.ones(12, bool)
+    rows, keys = build(q, radius, free, box, box, 0.0, 0.0)
+    assert np.all(np.diff(keys) > 0)
+    assert {tuple(int(v) for v in r) for r in rows} == _brute(q, radius, free, box, box, 0.0, 0.0)
+
+
 def test_keys_order_pairs_before_walls_and_refuse_far_images():
     k = contact_keys([0, 0, 0], [1, -1, 1], [0, 0, 1], [0, 0, 0], 5, 1)
     assert k[0] < k[2] < k[1]

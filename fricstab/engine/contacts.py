@@ -236,7 +236,8 @@ def _search_cells(q, radius, free, lx, ly, shift, skin, out):
 @kernel_jit
 def _search(q, radius, free, lx, ly, shift, skin, out):
     cut = 2.0 * radius.max() + skin
-    small = (lx > 0.0 and lx < 3.0 * cut) or (ly > 0.0 and ly < 3.0 * cut)
+    wide = 3.0 * cut * (1.0 + 1e-10)   # the cell list's width, so >= 3 cells where periodic
+    small = (lx > 0.0 and lx < wide) or (ly > 0.0 and ly < wide)
     if small:
         return _search_all(q, radius, free, lx, ly, shift, skin, out)
     return _search_cells(q, radius, free, lx, ly, shift, skin, out)

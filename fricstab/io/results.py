@@ -319,6 +319,9 @@ def _check_out_path(path):
     """``path`` is, or can be made, a writable directory; else ParameterError."""
     if "\x00" in str(path):
         raise ParameterError(f"--out: {str(path)!r} contains a NUL character")
+    if str(path).strip() in ("", "."):
+        raise ParameterError(f"--out: {str(path)!r} names no new directory; give a directory "
+                             "name (the run writes several files into it)")
     if path.exists() and not path.is_dir():
         raise ParameterError(f"--out: {path} exists and is not a directory")
     for parent in (path, *path.absolute().parents):

@@ -290,6 +290,24 @@ def _load_builtin():
             pass
 
 
+#: Largest scene file read (a scene is a few dozen keys; this refuses /dev/zero
+#: or a data file passed by mistake before reading it into memory).
+MAX_SCENE_BYTES = 1 << 20
+
+
+def _read_scene_text(path):
+    """The text of a scene file: a regular file of at most :data:`MAX_SCENE_BYTES`."""
+    p = Path(path).expanduser()
+    if p.exists() and not p.is_dir() and not p.is_file():
+        raise ParameterError(f"--scene: {path} is not a regular file")
+    with open(p, "rb") as fh:
+        data = fh.read(MAX_SCENE_BYTES + 1)
+    if len(data) > MAX_SCENE_BYTES:
+        raise ParameterError(f"--scene: {path} is larger than {MAX_SCENE_BYTES} bytes: "
+                             "not a scene file")
+    return data.decode("utf-8")
+
+
 def load_toml(name, path):
     """The key/value pairs of a TOML scene file (top level or under ``[name]``)."""
     schema = get(name)
@@ -297,7 +315,7 @@ def load_toml(name, path):
         return {}
     label = f"scene file {path}"
     try:
-        data = tomllib.loads(Path(path).expanduser().read_text(encoding="utf-8"))
+        data = tomllib.loads(_read_scene_text(path))
     except FileNotFoundError:
         raise ParameterError(f"--scene: scene file {path} does not exist") from None
     except IsADirectoryError:
@@ -313,6 +331,10 @@ def load_toml(name, path):
         if not isinstance(table, dict):
             raise ParameterError(f"{label}: key {schema.name!r} must be a table "
                                  f"([{schema.name}]), got {_short(table)}")
+        both = sorted(set(values) & set(table))
+        if both:
+            raise ParameterError(f"{label}: key {_short(both[0])} is given both at the top "
+                                 f"level and under [{schema.name}]; give it once")
         values.update(table)
     for key in values:
         if key not in schema.keys:
