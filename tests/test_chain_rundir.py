@@ -158,6 +158,10 @@ def test_every_chain_record_is_fingerprinted_with_the_law_and_its_parameters(tmp
         assert options[name].items() <= params.items(), name
         assert not {"out", "force", "scheduler", "workers", "checkpoint_every"} & set(params)
         assert fp["sha256"] == rundir.fingerprint(params)["sha256"]
+        listed = set(rundir.verify(out, name)["files"])          # every file in the manifest
+        assert {f"{name}.npz" if name != "jacobian" else "jacobian.npy"} <= listed, name
+    assert {"state.npz", "jacobian.npz", "dofs.json", "mass.npy"} <= \
+        set(_record(out, "jacobian")["files"])
 
 
 def test_dynamics_resume_with_another_parameter_is_refused_naming_it(tmp_path, monkeypatch,

@@ -313,6 +313,8 @@ def _jacobian(ns, argv):
     check_finite("force", f[:, :loaded.dof], item="disk", components=("F_x", "F_y", "T"))
     check_finite("Jacobian entry", jac, item="row")
     with rd.stage("write"):
+        for name in (*FILES, "jacobian.npy"):   # written by export_state: in the manifest
+            rd.register(name)
         export_state(loaded, state, rd.path)
     _finish(rd, {"max_force": float(np.abs(f[:, :loaded.dof]).max()),
                  "shape": list(jac.shape), **_meta(loaded, ns, 0.0)}, loaded, ns, argv,

@@ -78,7 +78,7 @@ def load_member(path):
 
 
 def _sound(path, fingerprint):
-    """The stored member at ``path`` if it loads and carries ``fingerprint`` (if given), else None."""
+    """The member stored at ``path`` if it loads and has ``fingerprint`` (if given), or None."""
     path = Path(path)
     if not path.is_file():
         return None
@@ -126,8 +126,10 @@ def _client(scheduler, workers, n_todo):
     from dask.distributed import Client, LocalCluster
     if scheduler == "local":
         n = workers or min(os.cpu_count() or 1, max(1, n_todo))
+        # the scheduler's HTTP server on a free local port: dask's default, 8787, is
+        # taken by any other cluster on the machine (a warning, then a failure)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout="10s"), None
