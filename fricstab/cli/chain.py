@@ -29,10 +29,22 @@ and wall/CPU time per stage (:mod:`fricstab.io.results`).
     ``trajectory.dump`` for OVITO.  Checkpoints every K Verlet steps in
     ``DIR/checkpoints/`` (removed when the run completes); ``--resume``
     continues bit-identically from the latest.
-``fricstab chain waves --fx F... --realizations R --out DIR [--scheduler local|inline|ADDRESS]``
-    R seeded realizations per F_x through :func:`fricstab.io.ensemble.run_ensemble`
-    (each stored in ``DIR/members/`` when done, skipped on rerun); wave fits
-    in ``waves.json``, ``waves.npz``, ``waves.png``.
+``fricstab chain waves --fx F... --realizations R --out DIR [--scheduler local|inline|ADDRESS] [--resume]``
+    R seeded realizations per F_x through :func:`fricstab.io.ensemble.run_ensemble`,
+    each stored when done as ``DIR/members/fx<F>_seed<S>_<hash>.npz``, ``<hash>``
+    12 hex digits of the member's own fingerprint (scene and law, exact F_x,
+    ``--step``, seed, ``--duration``, ``--slide-threshold``), which the file also
+    holds; ``--resume`` keeps the sound members of an interrupted run and
+    recomputes a missing, damaged or foreign one.  Wave fits in ``waves.json``,
+    ``waves.npz`` (``tau_fx<F>`` ..., F as ``repr``), ``waves.png``.
+
+Every record carries a ``fingerprint``: the validated scene (the law and its
+parameters) and every option that changes the output (not ``--out``,
+``--force``, ``--resume``, ``--quiet``, ``--no-progress``, ``--scheduler``,
+``--workers``, ``--checkpoint-every``).  A result in ``--out`` is never
+overwritten without ``--force``, which first removes everything the previous
+run of that command wrote (members and checkpoints included); ``--resume`` of
+a run made with other parameters is refused, naming the parameter.
 
 A law that cannot make sense with the scene (a frictionless law under
 F_x > 0; waves of a law without a Coulomb cap) is refused before any work.
@@ -132,6 +144,9 @@ def add_parser(sub, parser_class, positive_float):
                                 "address of a running scheduler (tcp://host:8786)")
             c.add_argument("--workers", type=_count, default=None,
                            help="worker processes of the local cluster (default: CPU count)")
+            c.add_argument("--resume", action="store_true",
+                           help="continue an interrupted run in --out (same parameters): "
+                                "its stored members are kept, a damaged one recomputed")
         elif name == "jacobian":
             c.add_argument("--fx", type=_finite_float, default=None,
                            help="F_x of the equilibrium (default: the scene's fx, 0)")
@@ -190,10 +205,26 @@ def _dry_run(ns, scene, extra):
     return 0
 
 
-def _result_dir(ns, name, outputs):
+#: Protocol options that change how a run is computed, never its output: not fingerprinted.
+_NOT_FINGERPRINTED = ("scheduler", "workers", "checkpoint_every")
+
+
+def _fingerprint(scene, protocol):
+    """Every parameter that fixes a command's output, flat (a refusal names the parameter).
+
+    The validated scene (its law and the law's parameters included) and the
+    protocol options, less :data:`_NOT_FINGERPRINTED`.
+    """
+    return {**_scene_dict(scene),
+            **{k: v for k, v in protocol.items() if k not in _NOT_FINGERPRINTED}}
+
+
+def _result_dir(ns, name, outputs, scene, protocol):
+    """The command's :class:`ResultDir`, fingerprinted by :func:`_fingerprint`."""
     from fricstab.io.results import ResultDir
     return ResultDir(ns.out, name, force=ns.force, resume=getattr(ns, "resume", False),
-                     outputs=outputs)
+                     resumable=hasattr(ns, "resume"), outputs=outputs,
+                     fingerprint=_fingerprint(scene, protocol))
 
 
 def _meta(scene, ns, seconds):
@@ -219,7 +250,7 @@ def _ramp(ns, argv):
     scene = _scene(ns, fx=ns.fx_max).with_fx(0.0)
     _check_ramp_steps(ns.fx_max, ns.step, "--fx-max")
     protocol = {"fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol}
-    rd = _result_dir(ns, "ramp", ["ramp.npz", "ramp.png"])
+    rd = _result_dir(ns, "ramp", ["ramp.npz", "ramp.png"], scene, protocol)
     if ns.dry_run:
         return _dry_run(ns, scene, protocol)
     rd.create()
@@ -271,7 +302,7 @@ def _jacobian(ns, argv):
     fx = loaded.fx
     _check_ramp_steps(fx, ns.step, "--fx")
     protocol = {"fx": fx, "step": ns.step}
-    rd = _result_dir(ns, "jacobian", [*FILES, "jacobian.npy"])
+    rd = _result_dir(ns, "jacobian", [*FILES, "jacobian.npy"], loaded, protocol)
     if ns.dry_run:
         return _dry_run(ns, loaded, protocol)
     rd.create()
@@ -282,6 +313,8 @@ def _jacobian(ns, argv):
     check_finite("force", f[:, :loaded.dof], item="disk", components=("F_x", "F_y", "T"))
     check_finite("Jacobian entry", jac, item="row")
     with rd.stage("write"):
+        for name in (*FILES, "jacobian.npy"):   # written by export_state: in the manifest
+            rd.register(name)
         export_state(loaded, state, rd.path)
     _finish(rd, {"max_force": float(np.abs(f[:, :loaded.dof]).max()),
                  "shape": list(jac.shape), **_meta(loaded, ns, 0.0)}, loaded, ns, argv,
@@ -316,16 +349,14 @@ def _dynamics(ns, argv):
     every = ns.checkpoint_every or DEFAULT_CHECKPOINT_EVERY
     protocol = {"fx": ns.fx, "step": ns.step, "seed": ns.seed, "amplitude": ns.amplitude,
                 "duration_paper_units": ns.duration, "dt": dt, "frames": 4000,
-                "checkpoint_every": every, "export": ns.export}
-    rd = _result_dir(ns, "dynamics", ["dynamics.npz", "dynamics.png"])
+                "checkpoint_every": every, "export": ns.export, "disk": ns.disk}
+    rd = _result_dir(ns, "dynamics", ["dynamics.npz", "dynamics.png"], scene, protocol)
     if ns.export is not None:
         _export_module()
     if ns.dry_run:
         return _dry_run(ns, scene, {**protocol, "verlet_steps": int(np.ceil(n_steps))})
     rd.create()
-    fingerprint = {**_scene_dict(scene), **{k: v for k, v in protocol.items()
-                                            if k not in ("checkpoint_every", "export")}}
-    ck = Checkpointer(rd.path / "checkpoints", fingerprint)
+    ck = Checkpointer(rd.checkpoints(), _fingerprint(scene, protocol))
     resume = ck.latest() if ns.resume else None
     if ns.resume and resume is None and not ns.quiet:
         print(f"no checkpoint in {rd.path}/checkpoints: starting from the beginning",
@@ -402,7 +433,7 @@ def _waves(ns, argv):
     from fricstab.analysis.modes import transverse_mode
     from fricstab.analysis.spectrum import decompose
     from fricstab.figures.chain import wave_figure
-    from fricstab.io.ensemble import run_ensemble
+    from fricstab.io.ensemble import member_key, run_ensemble
     from fricstab.protocols.waves import fit_waves, realization_from_arrays, realization_member
     from fricstab.scenes.chain import forces_and_jacobian, mass_vector, time_unit
 
@@ -420,29 +451,36 @@ def _waves(ns, argv):
     protocol = {"fx": fxs, "step": ns.step, "realizations": ns.realizations, "seed": ns.seed,
                 "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
                 "scheduler": ns.scheduler}
-    rd = _result_dir(ns, "waves", ["waves.npz", "waves.png"])
+    rd = _result_dir(ns, "waves", ["waves.npz", "waves.png", "members"], scene, protocol)
     if ns.dry_run:
         return _dry_run(ns, scene, protocol)
     rd.create()
+    rd.register("members", folder=True)
     unit = time_unit(scene)
     seeds = range(ns.seed, ns.seed + ns.realizations)
+    keys = {(fx, seed): member_key(f"fx{fx:g}_seed{seed}", _fingerprint(
+                scene, {"member": "realization_member", "fx": fx, "step": ns.step,
+                        "seed": seed, "duration_paper_units": ns.duration,
+                        "slide_threshold_2R": ns.slide_threshold}))
+            for fx in fxs for seed in seeds}
     members, equilibria = {}, {}
     with rd.stage("equilibria"):
         for fx in fxs:
             eq = _ramped_equilibrium(scene, fx, ns.step)
             equilibria[fx] = eq
             for seed in seeds:
-                members[f"fx{fx:g}_seed{seed}"] = dict(
+                members[keys[fx, seed][0]] = dict(
                     scene=scene.with_fx(fx), equilibrium=eq, seed=seed, duration=ns.duration,
                     slide_threshold=ns.slide_threshold)
     with rd.stage("realizations"):
         stored = run_ensemble(realization_member, members, rd.path, scheduler=ns.scheduler,
-                              workers=ns.workers, progress=not ns.no_progress, desc="waves")
+                              workers=ns.workers, progress=not ns.no_progress, desc="waves",
+                              fingerprints=dict(keys.values()))
     results, all_reals, arrays = [], {}, {}
     with rd.stage("fits"):
         for fx in fxs:
             sc, eq = scene.with_fx(fx), equilibria[fx]
-            reals = [realization_from_arrays(stored[f"fx{fx:g}_seed{seed}"]) for seed in seeds]
+            reals = [realization_from_arrays(stored[keys[fx, seed][0]]) for seed in seeds]
             all_reals[fx] = reals
             fit = fit_waves(reals)
             _, jac = forces_and_jacobian(sc, eq)
@@ -458,12 +496,13 @@ def _waves(ns, argv):
                             "transverse_wavelength": mode.wavelength,
                             "breached_fraction": fit.breached_fraction})
             for key in ("tau", "x_tau", "tau_slide", "x_slide"):
-                arrays[f"{key}_fx{fx:g}"] = np.array([getattr(r, key) for r in reals])
+                arrays[f"{key}_fx{fx!r}"] = np.array([getattr(r, key) for r in reals])
     doc = {"realizations": ns.realizations,
            "seeds": f"{ns.seed}..{ns.seed + ns.realizations - 1}",
            "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
            "units": "length 2R, time " + PAPER_TIME_UNIT, "results": results,
-           "members": "members/<fx>_seed<seed>.npz, one per realization"}
+           "members": "members/fx<F>_seed<S>_<12 hex of the member's fingerprint>.npz, "
+                      "one per realization"}
     if len(fxs) >= 2:
         slope, intercept = np.polyfit(fxs, [r["v_com"] for r in results], 1)
         doc["v_com_fit"] = {"intercept": float(intercept), "slope": float(slope)}
@@ -473,7 +512,7 @@ def _waves(ns, argv):
         rd.write_png("waves.png", lambda tmp: wave_figure(all_reals, tmp))
     _finish(rd, doc, scene, ns, argv, protocol)
     for r in results:
-        print(f"F_x = {r['fx']:g}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "
+        print(f"F_x = {r['fx']!r}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "
               f"V2 = {r['v2']:.3f} +- {r['v2_err']:.3f}, v_cm = {r['v_com']:.2e}")
     print(f"wrote {rd.path}/waves.json, waves.npz, waves.png, members/")
     return 0

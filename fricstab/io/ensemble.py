@@ -5,7 +5,14 @@ mapping ``key -> kwargs``, one entry per member.  Each member's result is
 stored atomically as ``<out>/members/<key>.npz`` the moment it finishes (by
 the worker that computed it), so:
 
-* a rerun skips every stored member (a member never runs again once stored);
+* a rerun skips every stored member that is *sound*: it loads, and, where the
+  caller gives member fingerprints, its stored ``fingerprint`` array is that
+  of the member asked for.  A damaged member (unreadable, truncated) or one
+  made with other parameters is computed again and its file replaced; it is
+  never reused, and never fatal.  Callers whose member parameters can change
+  between runs build keys with :func:`member_key`: a readable label plus a
+  short hash of the member's full fingerprint, so members of other parameters
+  never share a file name;
 * a worker that dies loses only the member it was computing; the nanny
   restarts the worker and the scheduler reassigns that member (up to dask's
   ``distributed.scheduler.allowed-failures``, default 3 deaths per member);
@@ -27,6 +34,7 @@ import logging
 import os
 import re
 import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -34,9 +42,24 @@ import numpy as np
 from fricstab.io.files import atomic_write
 from fricstab.laws import ParameterError
 
-__all__ = ["member_path", "load_member", "run_ensemble"]
+__all__ = ["FINGERPRINT", "member_key", "member_path", "load_member", "run_ensemble"]
 
 _KEY = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+=-]{0,120}$")
+#: The array of a stored member that holds its fingerprint (SHA-256, hex).
+FINGERPRINT = "fingerprint"
+#: A damaged member file raises one of these on loading (cf. :mod:`fricstab.io.checkpoint`).
+_DAMAGED = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile)
+
+
+def member_key(label, parameters):
+    """``(key, sha256)`` of a member: ``<label>_<12 hex>`` and its full fingerprint hash.
+
+    ``parameters`` are every parameter that fixes the member's result (JSON-able;
+    floats are hashed exactly, by their ``repr``): see :func:`fricstab.io.rundir.fingerprint`.
+    """
+    from fricstab.io.rundir import fingerprint
+    sha = fingerprint(parameters)["sha256"]
+    return f"{label}_{sha[:12]}", sha
 
 
 def member_path(out_dir, key):
@@ -45,16 +68,42 @@ def member_path(out_dir, key):
 
 
 def load_member(path):
-    """The stored dict of arrays of one member."""
-    with np.load(path, allow_pickle=False) as z:
-        return {k: z[k] for k in z.files}
+    """The stored dict of arrays of one member (ValueError if the file is no NPZ archive)."""
+    with open(path, "rb") as fh:   # ours to close, also when the archive is damaged
+        z = np.load(fh, allow_pickle=False)
+        if not isinstance(z, np.lib.npyio.NpzFile):
+            raise ValueError(f"{path} is not an NPZ archive")
+        with z:
+            return {k: z[k] for k in z.files}
 
 
-def _store(path, result):
+def _sound(path, fingerprint):
+    """The member stored at ``path`` if it loads and has ``fingerprint`` (if given), or None."""
+    path = Path(path)
+    if not path.is_file():
+        return None
+    try:
+        data = load_member(path)
+    except _DAMAGED:
+        return None
+    if fingerprint is not None and str(data.get(FINGERPRINT, "")) != fingerprint:
+        return None
+    return data
+
+
+def _arrays(result, fingerprint):
     if not isinstance(result, dict):
         raise TypeError(f"an ensemble member must return a dict, got {type(result).__name__}")
     arrays = {str(k): np.asarray(v) for k, v in result.items()}
+    if fingerprint is not None:
+        if FINGERPRINT in arrays:
+            raise TypeError(f"an ensemble member with a fingerprint must not return the key "
+                            f"{FINGERPRINT!r}")
+        arrays[FINGERPRINT] = np.asarray(fingerprint)
+    return arrays
 
+
+def _store(path, arrays):
     def write(tmp):
         with open(tmp, "wb") as fh:
             np.savez(fh, **arrays)
@@ -63,22 +112,24 @@ def _store(path, result):
     atomic_write(path, write)
 
 
-def _run_member(func, key, kwargs, path):
-    """Worker side: compute one member unless stored, store it, return it."""
-    path = Path(path)
-    if path.is_file():
-        return load_member(path)
-    result = func(**kwargs)
-    _store(path, result)
-    return {str(k): np.asarray(v) for k, v in result.items()}
+def _run_member(func, key, kwargs, path, fingerprint=None):
+    """Worker side: compute one member unless soundly stored, store it, return its arrays."""
+    stored = _sound(path, fingerprint)
+    if stored is not None:
+        return stored
+    arrays = _arrays(func(**kwargs), fingerprint)
+    _store(path, arrays)
+    return arrays
 
 
 def _client(scheduler, workers, n_todo):
     from dask.distributed import Client, LocalCluster
     if scheduler == "local":
         n = workers or min(os.cpu_count() or 1, max(1, n_todo))
+        # the scheduler's HTTP server on a free local port: dask's default, 8787, is
+        # taken by any other cluster on the machine (a warning, then a failure)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout="10s"), None
@@ -88,8 +139,8 @@ def _client(scheduler, workers, n_todo):
 
 
 def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, retries=2,
-                 progress=True, desc="ensemble"):
-    """Run every member not yet stored; return ``{key: dict of arrays}`` for all members.
+                 progress=True, desc="ensemble", fingerprints=None):
+    """Run every member not soundly stored; return ``{key: dict of arrays}`` for all members.
 
     Parameters
     ----------
@@ -108,6 +159,12 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
         Retries of a member that raises (worker deaths are handled by dask).
     progress : bool
         Show a tqdm bar on stderr.
+    fingerprints : dict, optional
+        ``key -> str``, the fingerprint of each member (e.g. the hash of
+        :func:`member_key`): stored with the member as the array
+        ``fingerprint`` and compared on a rerun; a stored member whose
+        fingerprint differs is computed again.  The returned dicts do not
+        hold it.  Without it, a stored member is reused if it loads.
 
     Raises
     ------
@@ -125,15 +182,17 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
                                  "(letters, digits, _ . + = -)")
     if workers is not None and workers < 1:
         raise ParameterError(f"--workers must be an integer >= 1, got {workers}")
+    fps = {k: None if fingerprints is None else str(fingerprints[k]) for k in members}
     paths = {k: member_path(out_dir, k) for k in members}
-    todo = [k for k in members if not paths[k].is_file()]
-    results, first_error = {}, None
+    results = {k: d for k in members if (d := _sound(paths[k], fps[k])) is not None}
+    todo = [k for k in members if k not in results]
+    first_error = None
     with tqdm(total=len(members), initial=len(members) - len(todo), desc=desc, unit="member",
               disable=(not progress) or None, file=sys.stderr) as bar:
         if todo and scheduler == "inline":
             for k in todo:
                 try:
-                    results[k] = _run_member(func, k, members[k], str(paths[k]))
+                    results[k] = _run_member(func, k, members[k], str(paths[k]), fps[k])
                 except Exception as exc:  # run the others, then raise the first
                     first_error = first_error or exc
                 bar.update(1)
@@ -142,8 +201,8 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
             client, cluster = _client(scheduler, workers, len(todo))
             try:
                 futures = {client.submit(_run_member, func, k, members[k], str(paths[k]),
-                                         key=f"fricstab-member-{k}", retries=retries,
-                                         pure=False): k for k in todo}
+                                         fps[k], key=f"fricstab-member-{k}",
+                                         retries=retries, pure=False): k for k in todo}
                 for fut in as_completed(futures):
                     k = futures[fut]
                     try:
@@ -151,7 +210,7 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
                     except Exception as exc:
                         first_error = first_error or exc
                     else:
-                        if not paths[k].is_file():   # a remote worker without our filesystem
+                        if _sound(paths[k], fps[k]) is None:   # a remote worker's filesystem
                             _store(paths[k], res)
                         results[k] = res
                     bar.update(1)
@@ -161,4 +220,5 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
                     cluster.close()
     if first_error is not None:
         raise first_error
-    return {k: results[k] if k in results else load_member(paths[k]) for k in members}
+    return {k: {a: v for a, v in results[k].items() if fps[k] is None or a != FINGERPRINT}
+            for k in members}

@@ -106,9 +106,13 @@ class ResultDir:
     force : bool
         Start afresh: :meth:`create` removes what the previous run of this
         protocol wrote (its record, journal, and the files and folders they
-        list), and nothing else.
+        list), and nothing else, and drops its record from ``result.json``, so
+        that a forced run that then fails leaves no record of removed files.
     resume : bool
         Continue an interrupted run of this protocol (same fingerprint).
+    resumable : bool
+        Whether the command has ``--resume`` (named in the refusal of an
+        interrupted run only if so).
     outputs : list of str, optional
         Further names that count as an existing result (records written
         before manifests existed list no files).
@@ -124,7 +128,8 @@ class ResultDir:
         result is already complete, or was made with other parameters.
     """
 
-    def __init__(self, path, name, *, force=False, resume=False, outputs=(), fingerprint=None):
+    def __init__(self, path, name, *, force=False, resume=False, outputs=(), fingerprint=None,
+                 resumable=True):
         self.path = Path(path).expanduser()
         self.name = name
         self.record = self.path / f"{name}.json"
@@ -156,8 +161,9 @@ class ResultDir:
             found.append(f"an interrupted {name} run")
         if found:
             raise ParameterError(f"--out: {self.path} already holds results "
-                                 f"({', '.join(found)}); use --force to overwrite them "
-                                 "(or --resume to continue an interrupted run)")
+                                 f"({', '.join(found)}); use --force to overwrite them"
+                                 + (" (or --resume to continue an interrupted run)"
+                                    if resumable else ""))
 
     def create(self):
         """Create the directory, take its lock, clear a previous run if ``force``; returns self."""
@@ -173,6 +179,7 @@ class ResultDir:
                 elif q.exists():
                     q.unlink()
             self.record.unlink(missing_ok=True)
+            update_index(self.path, self.name, None)
         elif self.resume:
             old = _read_json(rundir.journal_path(self.path, self.name)) or {}
             self._names.update(old.get("files", []))
@@ -269,6 +276,7 @@ class ResultDir:
         doc["seconds"] = round(time.perf_counter() - self._t0, 3)
         doc["fingerprint"] = self.fingerprint or rundir.fingerprint(parameters)
         doc["files"] = rundir.manifest(self.path, (self._names | self._folders) - self._transient)
+        doc["folders"] = sorted(self._folders - self._transient)   # removed whole by --force
         write_json(self.record, doc)
         update_index(self.path, self.name, doc)
         rundir.journal_path(self.path, self.name).unlink(missing_ok=True)
@@ -297,7 +305,9 @@ def update_index(path, name, doc):
     """``result.json``: every protocol record of the directory, keyed by protocol.
 
     Written after the record, atomically; an unreadable old index is rebuilt
-    from the records on disk, so it never loses a finished result.
+    from the records on disk, so it never loses a finished result.  ``doc``
+    None drops ``name`` (its record was removed); an index left without
+    records is removed.
     """
     index_path = Path(path) / INDEX
     records = {}
@@ -310,7 +320,12 @@ def update_index(path, name, doc):
             continue
         if isinstance(rec, dict) and rec.get("protocol") == f.stem:
             records[f.stem] = rec
-    records[name] = doc
+    records.pop(name, None)
+    if doc is not None:
+        records[name] = doc
+    if not records:
+        index_path.unlink(missing_ok=True)
+        return
     write_json(index_path, {"index_version": RECORD_VERSION, "protocols": sorted(records),
                             "records": records})
 

@@ -15,8 +15,9 @@ Every protocol run writes into its ``--out`` directory through
 ``<protocol>.json``
     the record, written last and atomically: the numbers, the provenance, the
     fingerprint and the *manifest*: every file of the run with its size and
-    SHA-256.  Readers (:func:`verify`) refuse a directory whose files do not
-    match it, naming the file.
+    SHA-256, and the folders the run owns (removed whole by ``--force``).
+    Readers (:func:`verify`) refuse a directory whose files do not match it,
+    naming the file.
 
 The fingerprint is the SHA-256 of the canonical JSON of every parameter that
 affects the output (the validated scene, the protocol's options, the seed).
