@@ -56,10 +56,19 @@ Common options: ``--z-th`` (rattlers: Z <= z_th, removed iteratively;
 default 2), ``--route auto|symmetric|dense``, ``--scene FILE.toml`` (keys at
 the top level or under ``[packing]``: ``fricstab scene show packing``; the
 command line wins; keys a command does not use are ignored), ``--force``
-(overwrite result files), ``--no-progress``, ``--dry-run``.  ``rigidity``,
-``dos`` and ``jacobian`` build the packing from the make options (and save
-it as ``DIR/packing.npz``) unless ``--packing`` names one; ``--packing``
-cannot be combined with make options on the command line.
+(replace this command's result, and the packing of ``--out`` if it is
+another), ``--no-progress``, ``--dry-run``.  ``rigidity``, ``dos`` and
+``jacobian`` use the packing that ``--packing`` names, checked against its
+record's manifest (a changed, missing or damaged file, or an interrupted
+run, is refused); else the packing of ``--out`` if its make parameters are
+the run's; else they make one and record it as a ``packing`` result of
+``--out`` (``packing.npz``, ``packing.json``).  ``--packing`` cannot be
+combined with make options on the command line.  A directory holds one
+packing and only results made from it (:mod:`fricstab.cli.packing_source`).
+
+Every command writes through :class:`fricstab.io.results.ResultDir`: one
+writer per directory (a second is refused naming the first), a record with
+the fingerprint of the parameters and the manifest of its files.
 
 Exit status: 0 ok, 2 bad input (one line naming the parameter; nothing is
 written), 3 theory and step strain disagree by more than 1%, 4 a relaxation
@@ -72,8 +81,7 @@ import math
 import sys
 from pathlib import Path
 
-from fricstab.cli.packing_common import (DEFAULT_KT, DEFAULTS, MODES_MAX_PARTICLES, ROUTES,
-                                         start_clock)
+from fricstab.cli.packing_common import DEFAULT_KT, DEFAULTS, MODES_MAX_PARTICLES, ROUTES
 from fricstab.errors import ConvergenceError, ParameterError
 
 __all__ = ["add_parser", "run"]
@@ -113,7 +121,8 @@ def _common_options(c):
                    help="rattlers: Z <= z_th, removed iteratively (default 2)")
     c.add_argument("--out", type=Path, required=True, help="output directory")
     c.add_argument("--force", action="store_true",
-                   help="overwrite result files that already exist in --out")
+                   help="replace this command's result in --out; a packing there made with "
+                        "other parameters is replaced too, with the results made from it")
     c.add_argument("--no-progress", action="store_true", help="no progress bars")
     c.add_argument("--quiet", action="store_true",
                    help="print nothing on success (errors still go to stderr)")
@@ -123,8 +132,10 @@ def _common_options(c):
 
 def _packing_option(c):
     c.add_argument("--packing", type=Path, default=None, metavar="DIR_OR_NPZ",
-                   help="use this packing (a directory with packing.npz, or the .npz) "
-                        "instead of making one")
+                   help="use this packing (a directory with packing.npz, or the .npz), "
+                        "checked against its record, instead of making one; without it the "
+                        "packing of --out is reused if made with the same make options, "
+                        "else one is made (a different one there needs --force)")
 
 
 def add_parser(sub, parser_class, positive_float):
@@ -214,7 +225,6 @@ def _schema():
 def run(ns, argv=None):
     """Run ``fricstab packing ...``; ``argv`` (the command's arguments) goes into the JSON."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    start_clock()
     try:
         if ns.packing_command == "make":
             from fricstab.cli.packing_make import make

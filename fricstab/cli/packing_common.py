@@ -17,19 +17,15 @@ is the one run; without either, the paper's scan of the command
 import inspect
 import json
 import math
-import shlex
 import sys
-import time
 
-import numpy as np
-
-from fricstab.io.files import atomic_write
-from fricstab.io.results import json_clean, write_json
+from fricstab.io.files import json_clean
 from fricstab.laws import ParameterError
 from fricstab.scenes.packing import make_packing
 
-__all__ = ["DEFAULTS", "DEFAULT_KT", "MAKE_KEYS", "Run", "check_out", "law_runs", "meta",
-           "obtain_packing", "resolve", "summary", "write_npy", "write_record"]
+__all__ = ["DEFAULTS", "DEFAULT_KT", "MAKE_KEYS", "UNITS_NOTE", "Run", "dry_run", "law_runs",
+           "new_packing", "packing_source_checks", "public", "resolve", "save_packing",
+           "summary"]
 
 _MAKE = inspect.signature(make_packing).parameters  # one source for the packing defaults
 DEFAULTS = {"n": 256, "phi": 0.90, "seed": 0, "dphi": _MAKE["dphi"].default,
@@ -42,7 +38,7 @@ ROUTES = ("auto", "symmetric", "dense")
 MODES_MAX_PARTICLES = 1100   # rigidity --modes default: on up to this backbone size
 UNITS = {"length": "d (large diameter) = 1", "mass": "m (large disk) = 1",
          "time": "t0 = sqrt(m/k_N) d^(1/4) = 1", "force": "k_N d^(3/2)"}
-_CPU0 = [0.0]                # process CPU time at the start of the command
+UNITS_NOTE = "d = 1 (large diameter), k_N = 1, m = 1, t0 = 1; kt = k_T / k_N"
 
 
 # ------------------------------------------------------------------ parameters
@@ -121,52 +117,16 @@ def public(params):
     return {k: v for k, v in params.items() if k not in ("explicit_kt", "kt_scan")}
 
 
-# ------------------------------------------------------------------ packings and files
-
-def packing_file(path):
-    path = path.expanduser()
-    if path.is_dir():
-        path = path / "packing.npz"
-    if not path.is_file():
-        raise ParameterError(f"--packing: no packing file at {path} "
-                             "(expected a directory with packing.npz, or a .npz file)")
-    return path
-
-
-def _load_packing(path):
-    import zipfile
-
-    from fricstab.scenes.packing import Packing
-    try:
-        return Packing.load(path)
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
-        raise ParameterError(f"--packing: cannot read a packing from {path}: "
-                             f"{' '.join(str(exc).split())}") from None
-
+# ------------------------------------------------------------------ packings and records
 
 def packing_source_checks(ns):
-    """--packing excludes make options given on the command line; the file must exist."""
+    """--packing excludes make options given on the command line."""
     if getattr(ns, "packing", None) is None:
         return
     given = [f"--{k.replace('_', '-')}" for k in MAKE_KEYS if getattr(ns, k) is not None]
     if given:
         raise ParameterError(f"--packing cannot be combined with {', '.join(given)} "
                              "(those make a new packing)")
-    packing_file(ns.packing)
-
-
-def check_out(out, names, force):
-    """Raise if ``out`` is not a directory or holds any of ``names`` (without ``force``)."""
-    out = out.expanduser()
-    if out.exists() and not out.is_dir():
-        raise ParameterError(f"--out: {out} exists and is not a directory")
-    if force:
-        return out
-    found = [n for n in names if (out / n).exists()]
-    if found:
-        raise ParameterError(f"--out: {out} already holds results ({', '.join(found)}); "
-                             "use --force to overwrite them")
-    return out
 
 
 def show_progress(ns):
@@ -174,24 +134,19 @@ def show_progress(ns):
     return not ns.no_progress and sys.stderr.isatty()
 
 
-def save_packing(path, packing):
+def new_packing(params, progress=False):
+    """The packing of the make parameters of ``params`` (seeded, bit-reproducible)."""
+    return make_packing(params["n"], params["phi"], params["seed"], dphi=params["dphi"],
+                        f_tol=params["f_tol"], f_tol_compress=params["f_tol_compress"],
+                        progress=progress)
+
+
+def save_packing(packing):
+    """A writer of ``packing`` for :meth:`fricstab.io.results.ResultDir.write_with`."""
     def write(tmp):
         with open(tmp, "wb") as fh:
             packing.save(fh)
-    atomic_write(path, write)
-
-
-def obtain_packing(ns, params, out):
-    """The packing: loaded from --packing, or made (and saved to ``out/packing.npz``)."""
-    if getattr(ns, "packing", None) is not None:
-        path = packing_file(ns.packing)
-        return _load_packing(path), str(path)
-    packing = make_packing(params["n"], params["phi"], params["seed"], dphi=params["dphi"],
-                           f_tol=params["f_tol"], f_tol_compress=params["f_tol_compress"],
-                           progress=show_progress(ns))
-    if out is not None:
-        save_packing(out / "packing.npz", packing)
-    return packing, None
+    return write
 
 
 def summary(packing, bb):
@@ -208,43 +163,7 @@ def friction_record(fr):
             "normal_fire_iterations": fr.fire_iterations, "max_force": fr.residual}
 
 
-# ------------------------------------------------------------------ records
-
-def write_record(out, name, doc):
-    """The record ``<name>.json`` (provenance included by :func:`meta`), then ``result.json``."""
-    from fricstab.io.results import update_index
-    doc.setdefault("protocol", name)
-    doc.setdefault("parameters", doc.get("resolved_parameters"))
-    write_json(out / f"{name}.json", doc)
-    update_index(out, name, json_clean(doc))
-
-
-def write_npy(path, array):
-    def write(tmp):
-        with open(tmp, "wb") as fh:
-            np.save(fh, array)
-    atomic_write(path, write)
-
-
-def start_clock():
-    _CPU0[0] = time.process_time()
-
-
-def meta(argv, seconds, seed=None, params=None):
-    """Provenance of a record: command, versions, git revision, seed, timings."""
-    from fricstab.io.results import git_revision, versions
-    return {
-        "units": "d = 1 (large diameter), k_N = 1, m = 1, t0 = 1; kt = k_T / k_N",
-        "command": "fricstab " + shlex.join(argv),
-        "seconds": round(seconds, 3),
-        "seed": seed,
-        "resolved_parameters": public(params) if params is not None else None,
-        "timings": {"total": {"wall_s": round(seconds, 4),
-                              "cpu_s": round(time.process_time() - _CPU0[0], 4)}},
-        "versions": versions(),
-        "git": git_revision(),
-    }
-
+# ------------------------------------------------------------------ output
 
 def dry_run(params, runs=None):
     doc = public(params)
@@ -259,24 +178,3 @@ def rel(a, b):
     if a is None or b is None or not (math.isfinite(a) and math.isfinite(b)):
         return None
     return abs(a - b) / abs(b) if b != 0 else (0.0 if a == b else math.inf)
-
-
-def setup(ns, keys, command, result_names):
-    """Parameters, runs, output folder, packing and backbone shared by rigidity and dos.
-
-    Returns ``(params, runs, None)`` for ``--dry-run`` (nothing made), else
-    ``(params, runs, (out, packing, source, backbone))``.
-    """
-    from fricstab.scenes.packing_friction import backbone
-
-    params = resolve(ns, MAKE_KEYS + keys)
-    runs = law_runs(params, command)
-    packing_source_checks(ns)
-    names = result_names(runs) + ([] if ns.packing else ["packing.npz"])
-    out = check_out(ns.out, names, ns.force)
-    if ns.dry_run:
-        return params, runs, None
-    out.mkdir(parents=True, exist_ok=True)
-    packing, source = obtain_packing(ns, params, out)
-    return params, runs, (out, packing, source, backbone(packing, z_th=params["z_th"]))
-

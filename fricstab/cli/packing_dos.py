@@ -8,13 +8,13 @@ to every run, and the rotational band.
 """
 
 import sys
-import time
 
 import numpy as np
 
-from fricstab.cli.packing_common import (MAKE_KEYS, dry_run, friction_record, meta, public, setup,
-                                         summary, write_record)
-from fricstab.io.files import atomic_write
+from fricstab.cli.packing_common import (MAKE_KEYS, UNITS_NOTE, dry_run, friction_record,
+                                         law_runs, packing_source_checks, public, resolve,
+                                         show_progress, summary)
+from fricstab.cli.packing_source import open_run
 from fricstab.laws import ParameterError
 
 __all__ = ["dos"]
@@ -66,15 +66,21 @@ def dos(ns, argv):
     from fricstab.analysis import dos as dosmod
     from fricstab.figures.packing import dos_figure
 
-    t0 = time.perf_counter()
-    params, runs, made = setup(ns, ("z_th", "route", "bins"), "dos",
-                               lambda runs: ["dos.json", "dos.npz", "dos.png"])
-    if made is None:
+    from fricstab.scenes.packing_friction import backbone
+
+    params = resolve(ns, MAKE_KEYS + ("z_th", "route", "bins"))
+    runs = law_runs(params, "dos")
+    packing_source_checks(ns)
+    opened = open_run(ns, params, "dos", ["dos.npz", "dos.png"],
+                      {"kt": [r.kt for r in runs]})
+    if ns.dry_run:
         return dry_run(params, runs)
-    out, packing, source, bb = made
+    source = opened.start(argv, show_progress(ns))
+    rd, packing = opened.rd, source.packing
+    bb = backbone(packing, z_th=params["z_th"])
     spectra = []
     with tqdm(runs, desc="dos", unit="run", disable=ns.no_progress or None,
-              file=sys.stderr) as bar:
+              file=sys.stderr) as bar, rd.stage("spectrum"):
         for run in bar:
             bar.set_postfix_str(run.name)
             spectra.append(_spectrum(bb, run, params["route"], params["f_tol"]))
@@ -96,26 +102,18 @@ def dos(ns, argv):
                        f"dos_{i}": d, f"psi_t_mean_{i}": s["psi_t_mean"],
                        f"psi_r_mean_{i}": s["psi_r_mean"]})
         per_run.append(_entry(i, s, edges))
-    doc = {"parameters": {**public(params), "kt": [r.kt for r in runs]},
-           "packing_source": source or "made by this command (packing.npz)",
-           **summary(packing, bb),
+    doc = {"packing": source.record(), **summary(packing, bb),
            "normalization": "D(omega) = counts / (3 N width), N = all particles "
                             "(rattlers included); translations dropped",
            "kt_array": "dos.npz 'kt': kT/kN of each run, NaN for a law without kt",
-           "edges": [float(edges[0]), float(edges[-1])], "results": per_run}
-    if source is None:
+           "edges": [float(edges[0]), float(edges[-1])], "results": per_run,
+           "units": UNITS_NOTE}
+    if source.origin != "read":
         doc["make"] = {k: params[k] for k in MAKE_KEYS}
-
-    def npz(tmp):
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **arrays)
-
-    atomic_write(out / "dos.npz", npz)
-    atomic_write(out / "dos.png", lambda tmp: dos_figure(spectra, edges, tmp))
-    parameters = doc["parameters"]
-    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
-    doc["parameters"] = parameters
-    write_record(out, "dos", doc)
+    rd.write_npz("dos.npz", **arrays)
+    rd.write_png("dos.png", lambda tmp: dos_figure(spectra, edges, tmp))
+    rd.finish(doc, parameters={**public(params), "kt": [r.kt for r in runs]},
+              seed=packing.seed, argv=argv)
     print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, law "
           f"{params['law']}; {params['bins']} log bins in omega [{edges[0]:.3g}, "
           f"{edges[-1]:.3g}]")
@@ -124,5 +122,5 @@ def dos(ns, argv):
               f"{e['negative_eigenvalues']} negative, rotational peak "
               f"{e['rotational_peak']:.3g} (median {e['rotational_median']:.3g}), "
               f"{e['seconds']:.2f} s")
-    print(f"wrote {out}/dos.json, dos.npz, dos.png")
+    print(f"wrote {rd.path}/dos.json, dos.npz, dos.png")
     return 0

@@ -6,43 +6,52 @@ that the law holds it.  ``jacobian``: the force-balanced backbone under the
 law, written by :func:`fricstab.io.jacobian_export.write_state_jacobian`.
 """
 
-import time
-
 import numpy as np
 
-from fricstab.cli.packing_common import (MAKE_KEYS, UNITS, check_out, dry_run, friction_record,
-                                         law_runs, meta, obtain_packing, packing_source_checks,
-                                         public, resolve, save_packing, summary, write_record)
-from fricstab.io.files import atomic_write
+from fricstab.cli.packing_common import (MAKE_KEYS, UNITS, UNITS_NOTE, dry_run, friction_record,
+                                         law_runs, new_packing, packing_source_checks, public,
+                                         resolve, save_packing, show_progress, summary)
+from fricstab.cli.packing_source import NPZ, conflicts, open_run, refuse, remove
 
 __all__ = ["jacobian", "make"]
 
 
 def make(ns, argv):
-    """``fricstab packing make``: packing.npz, packing.json, packing.png."""
+    """``fricstab packing make``: packing.npz, packing.png, packing.json.
+
+    A packing already in ``--out`` is replaced only with ``--force``, together
+    with the results made from it (:mod:`fricstab.cli.packing_source`).
+    """
     from fricstab.figures.packing import packing_figure
+    from fricstab.io.results import ResultDir
     from fricstab.scenes.packing import find_contacts, hertz_forces
     from fricstab.scenes.packing_friction import backbone, frictional
 
-    t0 = time.perf_counter()
     params = resolve(ns, MAKE_KEYS + ("z_th",))
     (run,) = law_runs(params)
-    out = check_out(ns.out, ["packing.npz", "packing.json", "packing.png"], ns.force)
+    rd = ResultDir(ns.out, "packing", force=ns.force, outputs=(NPZ, "packing.png"),
+                   fingerprint=public(params))
+    found = conflicts(rd.path, "packing", new=True)
+    if not ns.force:
+        refuse(rd.path, found)
     if ns.dry_run:
         return dry_run(params, [run])
-    out.mkdir(parents=True, exist_ok=True)
-    packing, _ = obtain_packing(ns, params, None)
+    rd.create()
+    remove(rd.path, found, "made from the packing that --force replaced")
+    with rd.stage("make"):
+        packing = new_packing(params, show_progress(ns))
     radius = packing.radius
     pairs, sep = find_contacts(packing.pos, radius, packing.box)
     bb = backbone(packing, z_th=params["z_th"])
     m_bb = len(find_contacts(bb.pos, bb.radius, bb.box)[0])
-    fr = frictional(bb, run.material, f_tol=params["f_tol"])
+    with rd.stage("friction"):
+        fr = frictional(bb, run.material, f_tol=params["f_tol"])
     rattler = np.ones(packing.n, dtype=bool)
     rattler[bb.keep] = False
     xi = radius[pairs[:, 0]] + radius[pairs[:, 1]] - np.hypot(sep[:, 0], sep[:, 1])
     force = np.clip(xi, 0, None) ** 1.5          # Hertz, k_N = 1 (Eq. A4)
-    doc = {"parameters": public(params), "phi_start": packing.info.get("phi_start"),
-           "info": packing.info, "box": packing.box,
+    doc = {"phi_start": packing.info.get("phi_start"), "info": packing.info,
+           "n": packing.n, "phi": packing.phi, "box": packing.box,
            "contacts": len(pairs), "z_th": params["z_th"], "rattlers": int(rattler.sum()),
            "n_backbone": bb.n, "contacts_backbone": m_bb,
            "mean_contact_number_backbone": 2 * m_bb / bb.n if bb.n else None,
@@ -51,13 +60,12 @@ def make(ns, argv):
            "max_force_hertz": float(np.abs(hertz_forces(packing.pos, radius,
                                                         packing.box)).max()),
            "law": run.material.law, "law_params": dict(run.material.params),
-           "friction": friction_record(fr)}
-    save_packing(out / "packing.npz", packing)
-    atomic_write(out / "packing.png",
-                 lambda tmp: packing_figure(packing, pairs, sep, force, rattler, tmp))
-    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
-    doc["parameters"] = public(params)
-    write_record(out, "packing", doc)
+           "friction": friction_record(fr), "units": UNITS_NOTE}
+    with rd.stage("write"):
+        rd.write_with(NPZ, save_packing(packing))
+        rd.write_png("packing.png",
+                     lambda tmp: packing_figure(packing, pairs, sep, force, rattler, tmp))
+    doc = rd.finish(doc, parameters=public(params), seed=packing.seed, argv=argv)
     print(f"packing N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
           f"L = {packing.box:.6g}, {len(pairs)} contacts, {doc['rattlers']} rattlers (Z <= "
           f"{params['z_th']}), backbone Z = {doc['mean_contact_number_backbone']:.4f}, "
@@ -67,7 +75,7 @@ def make(ns, argv):
     print(f"friction on ({run.material.law}): max |F| = {f['max_force']:.1e}"
           + (f" after relaxing under its normal force ({f['normal_fire_iterations']} FIRE, "
              f"{f['normal_newton_iterations']} Newton iterations)" if f["relaxed"] else ""))
-    print(f"wrote {out}/packing.npz, packing.json, packing.png")
+    print(f"wrote {rd.path}/packing.npz, packing.png, packing.json")
     return 0
 
 
@@ -78,18 +86,17 @@ def jacobian(ns, argv):
     from fricstab.io.jacobian_export import FILES, write_state_jacobian
     from fricstab.scenes.packing_friction import backbone, frictional
 
-    t0 = time.perf_counter()
     params = resolve(ns, MAKE_KEYS + ("z_th",))
     (run,) = law_runs(params)
     packing_source_checks(ns)
-    names = list(FILES) + ["jacobian.json"] + ([] if ns.packing else ["packing.npz"])
-    out = check_out(ns.out, names, ns.force)
+    opened = open_run(ns, params, "jacobian", FILES, {})
     if ns.dry_run:
         return dry_run(params, [run])
-    out.mkdir(parents=True, exist_ok=True)
-    packing, source = obtain_packing(ns, params, out)
+    source = opened.start(argv, show_progress(ns))
+    rd, packing = opened.rd, source.packing
     bb = backbone(packing, z_th=params["z_th"])
-    fr = frictional(bb, run.material, f_tol=params["f_tol"])
+    with rd.stage("friction"):
+        fr = frictional(bb, run.material, f_tol=params["f_tol"])
     system, state = fr.system, fr.state
     extra = {"scene": "packing (Ishima et al.): the rattler-free backbone, periodic box",
              "ishima_convention": "Ishima's J (Eq. 18) is -K in (x, y, l = R theta); for a "
@@ -97,23 +104,23 @@ def jacobian(ns, argv):
              "backbone": {"n_total": packing.n, "n_backbone": bb.n, "z_th": params["z_th"],
                           "keep": "state.npz key 'keep': packing indices of the rows"},
              "friction": friction_record(fr)}
-    f, k = engine_jacobian(system, state)   # checked before anything is written
+    with rd.stage("jacobian"):
+        f, k = engine_jacobian(system, state)   # checked before anything is written
     check_finite("force", f.reshape(-1, system.dof), item="particle")
     check_finite("Jacobian entry", k.data, item="entry")
-    f, k = write_state_jacobian(out, system, state, units=UNITS, extra=extra,
-                                extra_arrays={"keep": bb.keep,
-                                              "packing_phi": np.array(packing.phi)})
-    doc = {"parameters": public(params),
-           "packing_source": source or "made by this command (packing.npz)",
-           **summary(packing, bb), "law": run.material.law,
+    for name in FILES:
+        rd.register(name)
+    with rd.stage("write"):
+        f, k = write_state_jacobian(rd.path, system, state, units=UNITS, extra=extra,
+                                    extra_arrays={"keep": bb.keep,
+                                                  "packing_phi": np.array(packing.phi)})
+    doc = {"packing": source.record(), **summary(packing, bb), "law": run.material.law,
            "law_params": dict(run.material.params), "dof_per_particle": system.dof,
            "shape": list(k.shape), "nnz": int(k.nnz),
            "max_force": float(np.abs(f).max()) if f.size else 0.0,
-           "friction": friction_record(fr)}
-    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
-    doc["parameters"] = public(params)
-    write_record(out, "jacobian", doc)
+           "friction": friction_record(fr), "units": UNITS_NOTE}
+    rd.finish(doc, parameters=public(params), seed=packing.seed, argv=argv)
     print(f"packing N = {packing.n} (backbone {bb.n}), law {run.material.law}: max |F| = "
           f"{doc['max_force']:.1e}, K {k.shape[0]} x {k.shape[1]} ({k.nnz} nonzeros)")
-    print(f"wrote {out}/state.npz, jacobian.npz, dofs.json, mass.npy, jacobian.json")
+    print(f"wrote {rd.path}/state.npz, jacobian.npz, dofs.json, mass.npy, jacobian.json")
     return 0

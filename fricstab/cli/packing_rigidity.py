@@ -8,13 +8,11 @@ the relative disagreements against the 1 % acceptance.
 """
 
 import sys
-import time
 
-from fricstab.cli.packing_common import (MAKE_KEYS, MODES_MAX_PARTICLES, dry_run,
-                                         friction_record, meta, public, rel, setup, summary,
-                                         write_npy, write_record)
-from fricstab.io.files import atomic_write
-from fricstab.io.results import write_json
+from fricstab.cli.packing_common import (MAKE_KEYS, MODES_MAX_PARTICLES, UNITS_NOTE, dry_run,
+                                         friction_record, law_runs, packing_source_checks, public,
+                                         rel, resolve, show_progress, summary)
+from fricstab.cli.packing_source import open_run
 
 __all__ = ["TOLERANCE", "rigidity"]
 
@@ -29,22 +27,21 @@ RECIPE = [
     "G_NA = -theta @ u / box**2; G = G_A + G_NA"]
 
 
-def _save_run(folder, bb, run, r, s, g_na_modes, g_modes):
+def _save_run(rd, bb, run, r, s, g_na_modes, g_modes):
     import scipy.sparse as sps
-
-    folder.mkdir(exist_ok=True)
 
     def jac_npz(tmp, jac=r.jacobian):
         with open(tmp, "wb") as fh:
             sps.save_npz(fh, sps.csr_matrix(jac))
 
-    atomic_write(folder / "jacobian_tilde.npz", jac_npz)
-    write_npy(folder / "xi.npy", r.xi)
-    write_npy(folder / "theta.npy", r.theta)
-    write_npy(folder / "u.npy", r.u)
-    write_npy(folder / "nonaffine_step.npy", s.nonaffine)
+    folder = run.name
+    rd.write_with(f"{folder}/jacobian_tilde.npz", jac_npz)
+    rd.write_npy(f"{folder}/xi.npy", r.xi)
+    rd.write_npy(f"{folder}/theta.npy", r.theta)
+    rd.write_npy(f"{folder}/u.npy", r.u)
+    rd.write_npy(f"{folder}/nonaffine_step.npy", s.nonaffine)
     k = run.dof
-    write_json(folder / "g.json", {
+    rd.write_json(f"{folder}/g.json", {
         "box": bb.box, "n": bb.n, "ndof": k, "kt": run.kt, "law": run.material.law,
         "law_params": dict(run.material.params),
         "ordering": "(x, y, l = R theta) per particle (Ishima's coordinates)" if k == 3
@@ -61,25 +58,30 @@ def rigidity(ns, argv):
     from fricstab.analysis.rigidity import rigidity as linear_rigidity
     from fricstab.figures.packing import rigidity_figure
     from fricstab.protocols import stepstrain
-    from fricstab.scenes.packing_friction import frictional
+    from fricstab.scenes.packing_friction import backbone, frictional
 
-    t0 = time.perf_counter()
-    keys = ("dgamma", "z_th", "route")
-    params, runs, made = setup(ns, keys, "rigidity", lambda runs: [
-        "rigidity.json", "rigidity.png"] + [r.name for r in runs])
-    if made is None:
+    params = resolve(ns, MAKE_KEYS + ("dgamma", "z_th", "route"))
+    runs = law_runs(params, "rigidity")
+    packing_source_checks(ns)
+    opened = open_run(ns, params, "rigidity", ["rigidity.png"] + [r.name for r in runs],
+                      {"kt": [r.kt for r in runs], "modes": ns.modes})
+    if ns.dry_run:
         return dry_run(params, runs)
-    out, packing, source, bb = made
+    source = opened.start(argv, show_progress(ns))
+    rd, packing = opened.rd, source.packing
+    bb = backbone(packing, z_th=params["z_th"])
     modes = ns.modes if ns.modes is not None else bb.n <= MODES_MAX_PARTICLES
     results, first = [], None
     with tqdm(runs, desc="rigidity", unit="run", disable=ns.no_progress or None,
               file=sys.stderr) as bar:
         for run in bar:
             bar.set_postfix_str(run.name)
-            fr = frictional(bb, run.material, f_tol=params["f_tol"])
-            r = linear_rigidity(fr.system, fr.state, modes=modes, route=params["route"])
-            s = stepstrain.step_strain(fr.system, fr.state, dgamma=params["dgamma"],
-                                       f_tol=params["f_tol"])
+            with rd.stage("theory"):
+                fr = frictional(bb, run.material, f_tol=params["f_tol"])
+                r = linear_rigidity(fr.system, fr.state, modes=modes, route=params["route"])
+            with rd.stage("step_strain"):
+                s = stepstrain.step_strain(fr.system, fr.state, dgamma=params["dgamma"],
+                                           f_tol=params["f_tol"])
             g_modes = r.g_modes if modes else None
             g_na_modes = r.g_na_modes if modes else None
             diffs = {"solve_vs_step": rel(s.g, r.g), "modes_vs_step": rel(s.g, g_modes),
@@ -91,25 +93,21 @@ def rigidity(ns, argv):
                      "step_iterations": s.iterations, "contacts_changed": s.contacts_changed,
                      "friction": friction_record(fr), "checks": r.checks,
                      "seconds": {**r.seconds, "step_strain": s.seconds}}
-            _save_run(out / run.name, bb, run, r, s, g_na_modes, g_modes)
+            _save_run(rd, bb, run, r, s, g_na_modes, g_modes)
             results.append(entry)
             if first is None:
                 first = (run.label(), r.u.reshape(bb.n, run.dof), s.nonaffine)
     bad = [(e, key, v) for e in results for key, v in e["relative_differences"].items()
            if key != "solve_vs_modes" and v is not None and v > TOLERANCE]
-    doc = {"parameters": {**public(params), "kt": [r.kt for r in runs], "modes": modes},
-           "packing_source": source or "made by this command (packing.npz)",
-           **summary(packing, bb), "tolerance": TOLERANCE,
+    doc = {"packing": source.record(), **summary(packing, bb), "tolerance": TOLERANCE,
            "relative_difference": "|G_theory - G_step| / |G_theory|",
-           "passed": not bad, "results": results}
-    if source is None:
+           "passed": not bad, "results": results, "units": UNITS_NOTE}
+    if source.origin != "read":
         doc["make"] = {k: params[k] for k in MAKE_KEYS}
-    atomic_write(out / "rigidity.png", lambda tmp: rigidity_figure(results, first, tmp))
-    parameters = doc["parameters"]
-    doc.update(meta(argv, time.perf_counter() - t0, params["seed"], params))
-    doc["parameters"] = parameters
-    write_record(out, "rigidity", doc)
-    _print(packing, bb, params, results, out)
+    rd.write_png("rigidity.png", lambda tmp: rigidity_figure(results, first, tmp))
+    rd.finish(doc, parameters={**public(params), "kt": [r.kt for r in runs], "modes": modes},
+              seed=packing.seed, argv=argv)
+    _print(packing, bb, params, results, rd.path)
     if bad:
         e, key, v = max(bad, key=lambda b: b[2])
         where = f"kt = {e['kt']:g}" if e["kt"] is not None else f"law {e['law']}"

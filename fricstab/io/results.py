@@ -119,6 +119,10 @@ class ResultDir:
     fingerprint : dict, optional
         Every parameter that affects the output; stored in the journal and the
         record, compared on ``resume``.
+    within : ResultDir, optional
+        A created ResultDir of the same directory whose lock this run shares:
+        a result written as part of another run (the packing that ``packing
+        rigidity`` makes), with its own record, journal and manifest.
 
     Raises
     ------
@@ -129,7 +133,7 @@ class ResultDir:
     """
 
     def __init__(self, path, name, *, force=False, resume=False, outputs=(), fingerprint=None,
-                 resumable=True):
+                 resumable=True, within=None):
         self.path = Path(path).expanduser()
         self.name = name
         self.record = self.path / f"{name}.json"
@@ -137,7 +141,7 @@ class ResultDir:
         self.force, self.resume, self.outputs = force, resume, tuple(outputs)
         self.fingerprint = None if fingerprint is None else rundir.fingerprint(fingerprint)
         self._names, self._folders, self._transient = set(), set(), set()
-        self._lock = None
+        self._lock, self._within, self._created = None, within, False
         self._t0 = time.perf_counter()
         self._started = datetime.now(timezone.utc)
         _check_out_path(self.path)
@@ -168,8 +172,13 @@ class ResultDir:
     def create(self):
         """Create the directory, take its lock, clear a previous run if ``force``; returns self."""
         self.path.mkdir(parents=True, exist_ok=True)
-        self._lock = rundir.Lock(self.path, self.name, " ".join(sys.argv[1:])).acquire()
-        _HELD.append(self)
+        if self._within is None:
+            self._lock = rundir.Lock(self.path, self.name, " ".join(sys.argv[1:])).acquire()
+            _HELD.append(self)
+        elif self._within._lock is None or \
+                self._within.path.resolve() != self.path.resolve():
+            raise ValueError("within= needs a created ResultDir of the same directory")
+        self._created = True
         if self.force:
             rundir.remove_run(self.path, self.name)
             for n in self.outputs:   # results of a run from before manifests existed
@@ -201,7 +210,7 @@ class ResultDir:
             target.add(rel)
             if transient:
                 self._transient.add(rel)
-            if self._lock is not None:
+            if self._created:
                 self._write_journal()
         return self.path / rel
 
@@ -214,6 +223,7 @@ class ResultDir:
         if self._lock is not None:
             self._lock.release()
             self._lock = None
+        self._created = False
         if self in _HELD:
             _HELD.remove(self)
 
@@ -301,13 +311,13 @@ def _read_json(path):
         return None
 
 
-def update_index(path, name, doc):
+def update_index(path, name=None, doc=None):
     """``result.json``: every protocol record of the directory, keyed by protocol.
 
-    Written after the record, atomically; an unreadable old index is rebuilt
-    from the records on disk, so it never loses a finished result.  ``doc``
-    None drops ``name`` (its record was removed); an index left without
-    records is removed.
+    Written after the record ``doc`` of ``name``, atomically, from the records on
+    disk, so it never loses a finished result nor keeps a removed one: ``doc``
+    None drops ``name`` (its record was removed); ``name`` None rebuilds the
+    index from the records alone; an index left without records is removed.
     """
     index_path = Path(path) / INDEX
     records = {}
@@ -320,9 +330,10 @@ def update_index(path, name, doc):
             continue
         if isinstance(rec, dict) and rec.get("protocol") == f.stem:
             records[f.stem] = rec
-    records.pop(name, None)
-    if doc is not None:
-        records[name] = doc
+    if name is not None:
+        records.pop(name, None)
+        if doc is not None:
+            records[name] = doc
     if not records:
         index_path.unlink(missing_ok=True)
         return
