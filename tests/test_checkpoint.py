@@ -59,7 +59,7 @@ def test_dynamics_stops_at_the_first_nonfinite_force():
 def test_numerical_failure_exits_4(tmp_path, capsys, monkeypatch):
     # waves and growth bind run_dynamics when first imported: import them before
     # the patch, or a first import under it would keep the patched function
-    from fricstab.protocols import dynamics, growth, waves  # noqa: F401
+    from fricstab.protocols import dynamics, growth, waves  # noqa: F401  (bound before the patch)
 
     def blow_up(*args, **kwargs):
         raise NumericalError("non-finite force F_x on disk 3 at Verlet step 17")

@@ -240,7 +240,9 @@ def test_a_failed_force_rerun_leaves_no_record_of_deleted_files(d, capsys, monke
                      "--force", "--out", str(d)], capsys)
     assert rc == 4, err
     assert not (d / "rigidity.json").exists()
-    index = json.loads((d / "result.json").read_text())
+    # an index left without records is removed (fricstab.io.results.update_index)
+    index = (json.loads((d / "result.json").read_text()) if (d / "result.json").exists()
+             else {"protocols": [], "records": {}})
     assert index["protocols"] == ([] if where == "make" else ["packing"])
     for name, rec in index["records"].items():
         assert rundir.verify(d, name) == rec       # every file each record lists is there
