@@ -16,6 +16,7 @@ import scipy.sparse as sps
 
 from fricstab.cli import main
 from fricstab.engine import jacobian
+from fricstab.io import rundir
 from fricstab.io.jacobian_export import FILES, system_from_state
 from fricstab.laws import PAIR_LAW_NAMES
 
@@ -40,6 +41,9 @@ def test_every_law_runs_in_every_scene(scene, law, tmp_path, capsys):
     doc = json.loads((out / "dofs.json").read_text())
     assert doc["n_dof"] == k.shape[0] == len(np.load(out / "mass.npy"))
     assert doc["dof_per_particle"] == (2 if law == "hertz" else 3)
+    record = rundir.verify(out, "jacobian")     # every file in the manifest, unchanged
+    assert set(FILES) <= set(record["files"])
+    assert record["fingerprint"]["parameters"]["law"] == law
 
 
 @pytest.mark.parametrize("scene", sorted(SMALL))

@@ -317,7 +317,9 @@ def jacobian_state(params, out, *, force=False, argv=None, log=print):
     from fricstab.protocols.shear_run import ShearRun, prepare
     from fricstab.scenes.shear import make_cell
 
-    rd = ResultDir(out, "jacobian", force=force, outputs=FILES)
+    rd = ResultDir(out, "jacobian", force=force, outputs=FILES, fingerprint=params).create()
+    for name in FILES:   # written by write_state_jacobian: in the manifest
+        rd.register(name)
     cell = make_cell(params)
     sim = ShearRun(cell)
     with rd.stage("prepare"):
@@ -328,7 +330,6 @@ def jacobian_state(params, out, *, force=False, argv=None, log=print):
     units = {"length": f"L0 = {u.length:.9g} m (mean radius)",
              "mass": f"rho L0^2 = {u.mass:.9g} kg/m", "time": f"L0 sqrt(rho/E*) = {u.time:.9g} s",
              "force": f"E* L0 = {u.force:.9g} N/m", "pressure": f"E* = {u.pressure:.9g} Pa"}
-    rd.create()
     with rd.stage("jacobian"):
         f, k = write_state_jacobian(rd.path, sim.system, sim.state, units=units, extra={
             "scene": "shear", "law_params_si": params["law_params"],
