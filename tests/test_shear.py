@@ -44,7 +44,7 @@ def test_cell_is_seeded_and_non_overlapping():
     bulk = r[a.kind == 0] * a.units.length
     assert bulk.min() >= 0.5e-6 and bulk.max() <= 1e-6
     # N = E* lx / kappa with E* the pressure unit
-    assert math.isclose(a.n_target, a.lx / 1e4)
+    assert math.isclose(a.n_target, a.lx / a.params["kappa"])
 
 
 def test_bad_scene_values_name_the_key():

@@ -64,7 +64,7 @@ class _Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
-def _int_at_least(minimum):
+def _int_at_least(minimum, maximum=None, why=""):
     def parse(text):
         try:
             value = int(text)
@@ -72,11 +72,14 @@ def _int_at_least(minimum):
             raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
         if value < minimum:
             raise argparse.ArgumentTypeError(f"must be >= {minimum}, got {text!r}")
+        if maximum is not None and value > maximum:
+            raise argparse.ArgumentTypeError(f"must be <= {maximum}{why}, got {text!r}")
         return value
     return parse
 
 
-def _positive_float():
+def _positive_float(low=0.0, high=math.inf, why=""):
+    """A finite float in ``(0, inf)``, or in ``[low, high]`` when given (``why`` says why)."""
     def parse(text):
         try:
             value = float(text)
@@ -84,8 +87,16 @@ def _positive_float():
             raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
         if not math.isfinite(value) or value <= 0:
             raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be in [{low:g}, {high:g}]{why}, "
+                                             f"got {text!r}")
         return value
     return parse
+
+
+#: The verification's domain: its errors are relative, so scales far beyond
+#: these only overflow (k_n R^(3/2) delta^(3/2)) or leave nothing to resolve.
+_VERIFY_SCALE = " (the proofs are scale-free; beyond this float64 overflows)"
 
 
 def _law_list(text):
@@ -118,24 +129,26 @@ def _parser():
     v = sub.add_parser("verify", help="prove the generated Jacobians (see README)")
     v.add_argument("--law", type=_law_list, default=list(ALL_LAWS),
                    help="law name, comma-separated names, or 'all' (default: all)")
-    v.add_argument("--cases", type=_int_at_least(1), default=200,
+    v.add_argument("--cases", type=_int_at_least(1, 1_000_000, " (about 1,000 cases per "
+                                                   "law per minute)"), default=200,
                    help="configurations per law (default: 200)")
     v.add_argument("--seed", type=_int_at_least(0), default=0,
                    help="seed of the configuration sampler (default: 0)")
     v.add_argument("--json", type=Path, default=None, metavar="PATH",
                    help="write the JSON report here")
-    v.add_argument("--radius", type=_positive_float(), default=0.5,
+    v.add_argument("--radius", type=_positive_float(1e-6, 1e6, _VERIFY_SCALE), default=0.5,
                    help="radius R of particle i (default: 0.5)")
-    v.add_argument("--kn", type=_positive_float(), default=1.0,
+    v.add_argument("--kn", type=_positive_float(1e-6, 1e12, _VERIFY_SCALE), default=1.0,
                    help="normal stiffness k_n (default: 1)")
-    v.add_argument("--mu-range", type=_positive_float(), nargs=2,
+    v.add_argument("--mu-range", type=_positive_float(1e-8, 1e8, _VERIFY_SCALE), nargs=2,
                    metavar=("LO", "HI"), default=None, help="friction coefficient range "
                    "(default: 0.1 100)")
-    v.add_argument("--kt-ratio-range", type=_positive_float(), nargs=2,
+    v.add_argument("--kt-ratio-range", type=_positive_float(1e-14, 1e4, _VERIFY_SCALE),
+                   nargs=2,
                    metavar=("LO", "HI"), default=None, help="k_t/k_n range (default: 1e-10 10)")
-    v.add_argument("--delta-range", type=_positive_float(), nargs=2,
+    v.add_argument("--delta-range", type=_positive_float(1e-15, 1.0), nargs=2,
                    metavar=("LO", "HI"), default=None, help="overlap/R range (default: 1e-12 0.1)")
-    v.add_argument("--radius-ratio-range", type=_positive_float(),
+    v.add_argument("--radius-ratio-range", type=_positive_float(1.0, 1e6, _VERIFY_SCALE),
                    nargs=2, metavar=("LO", "HI"), default=None,
                    help="R_j/R_i range (default: 1 1.4)")
     v.add_argument("--no-progress", action="store_true", help="no progress bar")

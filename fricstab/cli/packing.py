@@ -209,8 +209,9 @@ def _schema():
               cli="--kt", default_doc="the law's kt when given, else rigidity: 1e-4 1 10; "
               "dos: 1e-8 1e-4 1 10"),
         Field("dgamma", "float", DEFAULTS["dgamma"], "-", "step strain of the G check; "
-              "smaller is closer to linear response until round-off dominates",
-              low=0.0, high=0.1, low_open=True),
+              "smaller is closer to linear response until round-off dominates (below 1e-10 "
+              "the stress round-off 2 eps_sigma/dgamma, with the relaxation's 1e-14 residual "
+              "forces, exceeds 1 % of G)", low=1e-10, high=0.1),
         Field("z_th", "int", DEFAULTS["z_th"], "-", "rattlers: Z <= z_th, removed "
               "iteratively", low=0, high=1000),
         Field("route", "str", DEFAULTS["route"], "-", "eigen-solver: symmetric (eigh), dense "

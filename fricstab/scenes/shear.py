@@ -152,7 +152,7 @@ LAWS = LawChoice(
 )
 
 SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (Lee & Hurley)", (
-    Field("n", "int", 1000, "-", "bulk disks", low=4),
+    Field("n", "int", 300, "-", "bulk disks (paper: ~1,000; --preset paper)", low=4),
     Field("r_min", "float", 0.5e-6, "m", "smallest bulk radius", low=0.0, low_open=True),
     Field("r_max", "float", 1.0e-6, "m", "largest bulk radius (>= r_min)", low=0.0,
           low_open=True),
@@ -165,12 +165,15 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
     Field("alpha_n", "float", 0.1, "-", "normal damping ratio (A4)", low=0.0, high=1.0),
     Field("alpha_t", "float", 0.1, "-", "tangential damping ratio (A12)", low=0.0, high=1.0),
     Field("eta_r", "float", 0.3, "-", "rolling viscous damping ratio (A20)", low=0.0, high=1.0),
-    Field("inertial_number", "float", 4e-6, "-", "I = gamma_dot d sqrt(rho/P)", low=0.0,
+    Field("inertial_number", "float", 1e-4, "-", "I = gamma_dot d sqrt(rho/P) (paper: 4e-6)",
+          low=0.0,
           low_open=True, high=0.1),
-    Field("kappa", "float", 1e4, "-", "stiffness number E*/P, P = N/lx", low=10.0),
-    Field("dgamma", "float", 7.2e-7, "-", "shear strain between output frames", low=0.0,
+    Field("kappa", "float", 1e3, "-", "stiffness number E*/P, P = N/lx (paper: 1e4)",
+          low=10.0),
+    Field("dgamma", "float", 1e-5, "-", "shear strain between output frames (paper: 7.2e-7)",
+          low=0.0,
           low_open=True, high=0.01),
-    Field("strain", "float", 0.0936, "-", "total shear strain (paper: 130,000 x 7.2e-7)",
+    Field("strain", "float", 0.06, "-", "total shear strain (paper: 0.0936 = 130,000 x 7.2e-7)",
           low=0.0, low_open=True, high=10.0),
     Field("gamma0", "float", 0.022, "-", "start of the stick-slip regime for the analysis",
           low=0.0),
@@ -191,7 +194,7 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
     Field("prep_ke", "float", 1e-7, "P d^2", "... and mean kinetic energy below this",
           low=0.0, low_open=True),
     Field("prep_max_steps", "int", 3_000_000, "-", "preparation step limit", low=1),
-    Field("checkpoint_every", "int", 200, "frames", "checkpoint (and frame chunk) interval",
+    Field("checkpoint_every", "int", 500, "frames", "checkpoint (and frame chunk) interval",
           low=1),
 ), laws=LAWS))
 
@@ -201,7 +204,13 @@ HISTORY_UNITS = {"lee_hurley": ("force", "moment"), "charan": ("length", "length
 
 
 def restitution(alpha):
-    """Restitution of a linear spring-dashpot with damping ratio ``alpha`` (< 1)."""
+    """Restitution of a linear spring-dashpot with damping ratio ``alpha``.
+
+    ``exp(-pi alpha / sqrt(1 - alpha^2))`` below critical damping; 0 at and
+    above it (``alpha >= 1``: the contact does not rebound).
+    """
+    if alpha >= 1.0:
+        return 0.0
     return math.exp(-math.pi * alpha / math.sqrt(1.0 - alpha * alpha))
 
 
