@@ -41,6 +41,7 @@ import sys
 import tempfile
 import time
 import traceback
+import warnings
 from pathlib import Path
 
 from fricstab import __version__
@@ -347,14 +348,33 @@ def _log_internal(ns, exc):
 
 
 def main(argv=None):
-    """Entry point; returns the exit status (see the module docstring)."""
+    """Entry point; returns the exit status (see the module docstring).
+
+    Warnings (NumPy, SciPy, ours) do not reach stderr one by one: they are
+    collected, stored in the record of the run (``warnings``) and summed up in
+    one line at the end.
+    """
     from fricstab import signals
-    from fricstab.io.results import release_all
+    from fricstab.io.results import WARNINGS, release_all
+    WARNINGS.clear()
     try:
-        with signals.interruptible():
+        with signals.interruptible(), warnings.catch_warnings():
+            warnings.simplefilter("always")
+            warnings.showwarning = _collect_warning
             return _main(argv)
     finally:
         release_all()
+        if WARNINGS:
+            first = WARNINGS[0]
+            more = f" and {len(WARNINGS) - 1} more" if len(WARNINGS) > 1 else ""
+            print(f"fricstab: note: {first['category']}: {_one_line(first['message'])}{more} "
+                  "(listed under 'warnings' in the run's record)", file=sys.stderr)
+
+
+def _collect_warning(message, category, filename, lineno, file=None, line=None):
+    """``warnings.showwarning`` of the command line: into the records, not onto stderr."""
+    from fricstab.io.results import note_warning
+    note_warning(category.__name__, str(message), f"{Path(filename).name}:{lineno}")
 
 
 def _main(argv):

@@ -285,6 +285,7 @@ class ResultDir:
         doc.update(provenance(self.name, parameters, seed, self.timings, argv, self._started))
         doc["seconds"] = round(time.perf_counter() - self._t0, 3)
         doc["fingerprint"] = self.fingerprint or rundir.fingerprint(parameters)
+        doc["warnings"] = [dict(w) for w in WARNINGS]
         doc["files"] = rundir.manifest(self.path, (self._names | self._folders) - self._transient)
         doc["folders"] = sorted(self._folders - self._transient)   # removed whole by --force
         write_json(self.record, doc)
@@ -296,6 +297,18 @@ class ResultDir:
 
 #: ResultDirs of this process whose lock is held (released by :func:`release_all`).
 _HELD = []
+#: Warnings raised during this command (the command line collects them), distinct
+#: by (category, message, where), with counts; every record written lists them.
+WARNINGS = []
+
+
+def note_warning(category, message, where):
+    """Count one warning (the command line's ``warnings.showwarning``)."""
+    for w in WARNINGS:
+        if (w["category"], w["message"], w["where"]) == (category, message, where):
+            w["count"] += 1
+            return
+    WARNINGS.append({"category": category, "message": message, "where": where, "count": 1})
 
 
 def release_all():
