@@ -243,6 +243,8 @@ def remove_run(folder, protocol):
         if path.exists():
             path.unlink()
             removed.append(path.name)
+        for tmp in temporaries(folder, path.name):   # a killed writer's half record
+            tmp.unlink(missing_ok=True)
     return removed
 
 

@@ -17,13 +17,11 @@ Protocol
     velocity scaling v *= 1 - 0.05 dt / t_c of the loop before the engine: the
     same rate, split over the two half kicks).  Ends when |N / N_target - 1| <
     prep_tol and the mean kinetic energy per bulk disk < prep_ke P d^2 at a
-    check (every :data:`PREP_STAGE_STEPS` steps).  The engine counts the
-    affine displacement in the contacts' tangential histories (it is part of
-    the step's displacement ``dq``; the loop before the engine incremented
-    them with the velocities only), so friction resists the compression: the
-    quick cell (seed 0) ends at area fraction 0.718 instead of 0.722 and
-    compacts abruptly (height -3.8 %) when the shear starts; seeds 1 and 2 end
-    at 0.738 and 0.720.
+    check (every :data:`PREP_STAGE_STEPS` steps).  The contacts' histories
+    advance with the dynamic displacement ``dt v`` only, not with the affine
+    move (as the loop before the engine): the quick cell ends at area fraction
+    0.7295 (seed 0; 0.7354, 0.7184 for seeds 1, 2) and compacts by 1.4 % over
+    the shear run.
 :meth:`ShearRun.start_shear`
     V = gamma_dot h0 from I and kappa, the servo v_y = -g (N_target - N) with
     g = servo_gain h0 / (E* lx t_c), |v_y| <= prep_speed, dt fitted to an

@@ -1,0 +1,168 @@
+"""Random sequences of run / kill / --force / --resume / edit-a-file / second writer.
+
+The invariant (issue "Results that cannot go stale"): after every step the
+result directory is one run's complete output, or the command (or a reader)
+says why not.  Concretely, for the protocol under test:
+
+* a command that exits 0 leaves a record whose manifest verifies
+  (:func:`fricstab.io.rundir.verify`), whose fingerprint is that of the
+  command's own parameters, no journal, no lock and no temporary file;
+* a command that exits non-zero says so in one line; a refusal (exit 2)
+  changes no byte of the directory;
+* whenever a reader accepts the directory, it holds the output of the last
+  run that succeeded, untouched since: a kill, a hand edit or an interrupted
+  run makes readers refuse, naming why, until a run succeeds again.
+
+A kill is simulated in-process at a random file write (``os.replace`` raises
+a BaseException the command line does not catch, leaving the temporary file
+as SIGKILL would); the killed process's lock stays behind with a dead pid.
+``FRICSTAB_FUZZ_EXAMPLES`` sets the number of sequences (default 100).
+"""
+
+import json
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from fricstab.cli import main
+from fricstab.errors import ParameterError
+from fricstab.io import rundir
+
+EXAMPLES = int(os.environ.get("FRICSTAB_FUZZ_EXAMPLES", "100"))
+
+#: Two parameter sets of each command (a fast ramp of 4 disks; short dynamics),
+#: and the fingerprint key that tells them apart.
+COMMANDS = {
+    "ramp": ("ramp", "fx_max", [["--fx-max", "0.002"], ["--fx-max", "0.003"]], [0.002, 0.003]),
+    "dynamics": ("dynamics", "duration_paper_units",
+                 [["--fx", "0.002", "--duration", "1"], ["--fx", "0.002", "--duration", "2"]],
+                 [1.0, 2.0]),
+}
+
+
+class Killed(BaseException):
+    """What SIGKILL would do at a file write: nothing after it runs."""
+
+
+def _snapshot(d):
+    return {str(p.relative_to(d)): p.read_bytes() for p in sorted(Path(d).rglob("*"))
+            if p.is_file()} if Path(d).exists() else None
+
+
+def _dead_pid():
+    proc = subprocess.Popen([sys.executable, "-c", "pass"])
+    proc.wait()
+    return proc.pid
+
+
+def _reader(d, protocol):
+    """The record a reader accepts, or the reason it refuses (a ParameterError)."""
+    try:
+        return rundir.verify(d, protocol), None
+    except ParameterError as exc:
+        return None, str(exc)
+
+
+def _lock(d, pid, protocol, command):
+    (d / rundir.LOCK).write_text(json.dumps(
+        {"pid": pid, "host": platform.node(), "start": None, "protocol": protocol,
+         "command": command}))
+
+
+steps = st.one_of(
+    st.tuples(st.just("run"), st.integers(0, 1), st.sampled_from(["", "--force", "--resume"])),
+    st.tuples(st.just("kill"), st.integers(0, 1), st.integers(0, 6)),
+    st.tuples(st.just("edit"), st.integers(0, 10 ** 6), st.integers(1, 255)),
+    st.tuples(st.just("writer"), st.just(0), st.just(0)),
+)
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+@settings(max_examples=EXAMPLES, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(seq=st.lists(steps, min_size=1, max_size=6))
+def test_directory_is_one_runs_output_or_says_why_not(command, seq, tmp_path_factory, capsys,
+                                                      monkeypatch):
+    protocol, key, variants, values = COMMANDS[command]
+    d = tmp_path_factory.mktemp("fuzz") / "out"
+    good = None            # the variant of the last run that succeeded, if untouched since
+    for op, a, b in seq:
+        argv = ["chain", command, "--n", "4", *variants[a % 2], "--out", str(d), "--quiet",
+                "--no-progress"]
+        if op == "run":
+            flags = [b] if b and (b != "--resume" or command == "dynamics") else []
+            before = _snapshot(d)
+            rc = main(argv + flags)
+            err = capsys.readouterr().err
+            if rc == 0:
+                rec, why = _reader(d, protocol)
+                assert why is None, why
+                assert rec["fingerprint"]["parameters"][key] == values[a]
+                assert not rundir.journal_path(d, protocol).exists()
+                assert not (d / rundir.LOCK).exists()
+                assert not list(d.rglob("*.tmp"))
+                good = a
+            else:
+                assert err.startswith("fricstab: ") and err.count("\n") == 1, err
+                if rc == 2:   # refused: nothing touched
+                    assert _snapshot(d) == before, err
+        elif op == "kill":
+            calls = [0]
+            real = os.replace
+
+            def replace(src, dst, _limit=b):
+                calls[0] += 1
+                if calls[0] > _limit:
+                    raise Killed()
+                return real(src, dst)
+
+            monkeypatch.setattr(os, "replace", replace)
+            try:
+                rc = main(argv + ["--force"])
+            except Killed:
+                rc = None
+            finally:
+                monkeypatch.setattr(os, "replace", real)
+            capsys.readouterr()
+            if rc == 0:
+                good = a
+            elif rc is None and d.exists():   # the killed process's lock stays, pid dead
+                _lock(d, _dead_pid(), protocol, "killed")
+        elif op == "edit":
+            rec, _ = _reader(d, protocol)
+            files = sorted((rec or {}).get("files", {}))
+            if not files:
+                continue
+            p = d / files[a % len(files)]
+            data = bytearray(p.read_bytes())
+            if not data:
+                continue
+            data[a % len(data)] ^= b
+            p.write_bytes(bytes(data))
+            rec, why = _reader(d, protocol)
+            assert rec is None and files[a % len(files)] in why, why
+            good = None
+        elif op == "writer":
+            if not d.exists():
+                continue
+            _lock(d, os.getppid(), protocol, "another run")   # a live process
+            before = _snapshot(d)
+            rc = main(argv + ["--force"])
+            err = capsys.readouterr().err
+            assert rc == 2 and "being written by another fricstab run" in err, err
+            assert _snapshot(d) == before
+            (d / rundir.LOCK).unlink()
+        # the invariant of every step: a reader accepts only the last good run, untouched
+        rec, why = _reader(d, protocol) if d.exists() else (None, "no directory")
+        if rec is not None:
+            assert good is not None, "a reader accepts a directory no run completed"
+            assert rec["fingerprint"]["parameters"][key] == values[good]
+        else:
+            assert why
+            good = None   # a kill that removed the old result: nothing to accept
