@@ -25,8 +25,9 @@ line naming the parameter, its value and what is allowed); 3 theory and
 simulation (or a proof) disagree; 4 numerical failure (non-finite force,
 energy or eigenvalue; no convergence; out of memory), the last checkpoint
 kept; 70 internal error (a bug: one line, the traceback in
-``<out>/fricstab-error.log`` or shown with ``--debug``); 130 interrupted
-(checkpoints kept: rerun with ``--resume``).  No traceback reaches the user
+``<out>/fricstab-error.log`` or shown with ``--debug``); 130 SIGINT, 143
+SIGTERM (:mod:`fricstab.signals`; checkpoints kept: rerun with ``--resume``).
+No traceback reaches the user
 unless ``--debug`` is given.
 """
 
@@ -118,8 +119,8 @@ def _parser():
                 "the protocols of three studies of frictional granular matter.",
                 epilog="exit status: 0 ok, 1 file system refused, 2 bad input, 3 theory and "
                 "simulation disagree, 4 numerical failure or no convergence (last checkpoint "
-                "kept), 70 internal error (a bug; log in the output folder), 130 interrupted "
-                "(resume with --resume)")
+                "kept), 70 internal error (a bug; log in the output folder), 130 SIGINT and "
+                "143 SIGTERM (last checkpoint kept; resume with --resume)")
     p.add_argument("--version", action="version", version=f"fricstab {__version__}")
     p.add_argument("--debug", action="store_true",
                    help="show the traceback of an internal error (default: one line, the "
