@@ -53,44 +53,19 @@ Every file is written atomically (a complete file or none).  Figures:
 :mod:`fricstab.figures.chain`.
 """
 
-import json
 import sys
 
 import numpy as np
 
+from fricstab.cli.chain_common import (DEFAULT_CHECKPOINT_EVERY, MAX_VERLET_STEPS,
+                                       PAPER_TIME_UNIT, _check_ramp_steps, _count, _dry_run,
+                                       _fingerprint, _finish, _finite_float, _meta,
+                                       _ramped_equilibrium, _result_dir, _scene)
+from fricstab.cli.chain_waves import waves as _waves
 from fricstab.errors import ConvergenceError
-from fricstab.laws import ParameterError, get_law
+from fricstab.laws import ParameterError
 
 __all__ = ["add_parser", "run"]
-
-PAPER_TIME_UNIT = "sqrt(m 2R / kn)"
-
-
-MAX_RAMP_STEPS = 1_000_000        # ramp/equilibrium steps of F_x: beyond this, refuse
-MAX_VERLET_STEPS = 2_000_000_000  # dynamics: beyond this (hours), refuse
-DEFAULT_CHECKPOINT_EVERY = 50_000  # Verlet steps between checkpoints of `chain dynamics`
-
-
-def _finite_float(text):
-    import argparse
-    import math
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text!r}")
-    return value
-
-
-def _count(text):
-    import argparse
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
-    return value
-
 
 def add_parser(sub, parser_class, positive_float):
     """Register ``fricstab chain ramp|jacobian|dynamics|waves`` on the subparsers ``sub``."""
@@ -166,79 +141,6 @@ def add_parser(sub, parser_class, positive_float):
     return p
 
 
-def _scene(ns, fx=None):
-    """The scene (F_x = ``fx``, or the file's) from the scene file, then the command line.
-
-    Validated before any work, the law's refusals included (with ``fx``).
-    """
-    from fricstab.io.scenes import law_overrides
-    from fricstab.scenes.chain_io import scene_from_values, scene_parameters
-    overrides = {"n": ns.n, "fy": ns.fy, "mu": ns.mu, "inertia": ns.inertia, "fx": fx}
-    overrides.update({k: v for k, v in law_overrides(ns).items() if v is not None})
-    return scene_from_values(scene_parameters(ns.scene, **overrides))
-
-
-def _scene_dict(scene):
-    return {**{k: getattr(scene, k) for k in ("n", "radius", "mass", "fy", "inertia", "law")},
-            **scene.params, **scene.wall_params}
-
-
-def _capped(scene, command):
-    if not get_law(scene.law).capped:
-        raise ParameterError(f"law {scene.law}: {command} measures Coulomb breaching and "
-                             "sliding, but this law has no Coulomb cap (use charan or "
-                             "lee_hurley)")
-
-
-def _check_ramp_steps(value, step, flag):
-    steps = abs(value) / step
-    if steps > MAX_RAMP_STEPS:
-        raise ParameterError(f"{flag} / --step = {steps:.3g} ramp steps; at most "
-                             f"{MAX_RAMP_STEPS:.0e} (raise --step)")
-
-
-def _dry_run(ns, scene, extra):
-    """--dry-run: print the resolved parameters as JSON and stop."""
-    from fricstab.io.results import json_clean
-    doc = {"scene": _scene_dict(scene), **extra}
-    print(json.dumps(json_clean(doc), indent=2, allow_nan=False))
-    return 0
-
-
-#: Protocol options that change how a run is computed, never its output: not fingerprinted.
-_NOT_FINGERPRINTED = ("scheduler", "workers", "checkpoint_every")
-
-
-def _fingerprint(scene, protocol):
-    """Every parameter that fixes a command's output, flat (a refusal names the parameter).
-
-    The validated scene (its law and the law's parameters included) and the
-    protocol options, less :data:`_NOT_FINGERPRINTED`.
-    """
-    return {**_scene_dict(scene),
-            **{k: v for k, v in protocol.items() if k not in _NOT_FINGERPRINTED}}
-
-
-def _result_dir(ns, name, outputs, scene, protocol):
-    """The command's :class:`ResultDir`, fingerprinted by :func:`_fingerprint`."""
-    from fricstab.io.results import ResultDir
-    return ResultDir(ns.out, name, force=ns.force, resume=getattr(ns, "resume", False),
-                     resumable=hasattr(ns, "resume"), outputs=outputs,
-                     fingerprint=_fingerprint(scene, protocol))
-
-
-def _meta(scene, ns, seconds):
-    """Keys of the record common to the chain commands (before the provenance)."""
-    from fricstab.scenes.chain import time_unit
-    return {"scene": _scene_dict(scene), "paper_time_unit": PAPER_TIME_UNIT,
-            "paper_time_unit_sim": time_unit(scene)}
-
-
-def _finish(rd, doc, scene, ns, argv, extra_params):
-    params = {**_scene_dict(scene), **extra_params}
-    return rd.finish(doc, parameters=params, seed=getattr(ns, "seed", None), argv=argv)
-
-
 def _ramp(ns, argv):
     from tqdm import tqdm
 
@@ -281,15 +183,6 @@ def _ramp(ns, argv):
         print(f"  {e['kind']:5s} at F_x = {e['fx']:.7f} +- {0.5 * (e['fx_hi'] - e['fx_lo']):.1e}{flag}")
     print(f"wrote {out}/ramp.json, ramp.npz, ramp.png")
     return 0
-
-
-def _ramped_equilibrium(scene, fx, step):
-    """Newton ramp from 0 to ``fx`` in steps <= ``step`` (ConvergenceError: exit 4)."""
-    from fricstab.errors import check_finite
-    from fricstab.protocols.ramp import ramped_equilibrium
-    state = ramped_equilibrium(scene, fx, step)
-    check_finite("equilibrium position", state.q, item="disk", components=("x", "y", "theta"))
-    return state
 
 
 def _jacobian(ns, argv):
@@ -427,95 +320,6 @@ def _export_trajectory(rd, kind, scene, t, positions, velocities):
     else:
         rd.write_with("trajectory.dump",
                       lambda tmp: export.write_lammps_dump(tmp, pos, radius, **kw))
-
-
-def _waves(ns, argv):
-    from fricstab.analysis.modes import transverse_mode
-    from fricstab.analysis.spectrum import decompose
-    from fricstab.figures.chain import wave_figure
-    from fricstab.io.ensemble import member_key, run_ensemble
-    from fricstab.protocols.waves import fit_waves, realization_from_arrays, realization_member
-    from fricstab.scenes.chain import forces_and_jacobian, mass_vector, time_unit
-
-    if ns.realizations < 2:
-        raise ParameterError(f"--realizations must be >= 2, got {ns.realizations}")
-    if ns.realizations > 100_000:
-        raise ParameterError(f"--realizations must be <= 100000, got {ns.realizations}")
-    if ns.workers is not None and not 1 <= ns.workers <= 1024:
-        raise ParameterError(f"--workers must be an integer in [1, 1024], got {ns.workers}")
-    scene = _scene(ns, fx=max(ns.fx, key=abs)).with_fx(0.0)
-    _capped(scene, "waves")
-    for fx in ns.fx:
-        _check_ramp_steps(fx, ns.step, "--fx")
-    fxs = list(dict.fromkeys(ns.fx))
-    protocol = {"fx": fxs, "step": ns.step, "realizations": ns.realizations, "seed": ns.seed,
-                "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
-                "scheduler": ns.scheduler}
-    rd = _result_dir(ns, "waves", ["waves.npz", "waves.png", "members"], scene, protocol)
-    if ns.dry_run:
-        return _dry_run(ns, scene, protocol)
-    rd.create()
-    rd.register("members", folder=True)
-    unit = time_unit(scene)
-    seeds = range(ns.seed, ns.seed + ns.realizations)
-    keys = {(fx, seed): member_key(f"fx{fx:g}_seed{seed}", _fingerprint(
-                scene, {"member": "realization_member", "fx": fx, "step": ns.step,
-                        "seed": seed, "duration_paper_units": ns.duration,
-                        "slide_threshold_2R": ns.slide_threshold}))
-            for fx in fxs for seed in seeds}
-    members, equilibria = {}, {}
-    with rd.stage("equilibria"):
-        for fx in fxs:
-            eq = _ramped_equilibrium(scene, fx, ns.step)
-            equilibria[fx] = eq
-            for seed in seeds:
-                members[keys[fx, seed][0]] = dict(
-                    scene=scene.with_fx(fx), equilibrium=eq, seed=seed, duration=ns.duration,
-                    slide_threshold=ns.slide_threshold)
-    with rd.stage("realizations"):
-        stored = run_ensemble(realization_member, members, rd.path, scheduler=ns.scheduler,
-                              workers=ns.workers, progress=not ns.no_progress, desc="waves",
-                              fingerprints=dict(keys.values()))
-    results, all_reals, arrays = [], {}, {}
-    with rd.stage("fits"):
-        for fx in fxs:
-            sc, eq = scene.with_fx(fx), equilibria[fx]
-            reals = [realization_from_arrays(stored[keys[fx, seed][0]]) for seed in seeds]
-            all_reals[fx] = reals
-            fit = fit_waves(reals)
-            _, jac = forces_and_jacobian(sc, eq)
-            w = decompose(jac, mass_vector(scene), vectors=False).eigenvalues
-            growth = float(np.abs(np.sqrt(w.astype(complex)).real).max()) * unit
-            mode = transverse_mode(sc, eq)
-            results.append({"fx": fx, "v1": fit.v1, "v1_err": fit.v1_err, "v2": fit.v2,
-                            "v2_err": fit.v2_err, "v_com": fit.v_com, "v_com_err": fit.v_com_err,
-                            "growth_rate": growth,
-                            "v1_over_growth": fit.v1 / growth if growth > 0 else None,
-                            "v2_predicted_transverse": mode.speed,
-                            "transverse_omega": mode.omega,
-                            "transverse_wavelength": mode.wavelength,
-                            "breached_fraction": fit.breached_fraction})
-            for key in ("tau", "x_tau", "tau_slide", "x_slide"):
-                arrays[f"{key}_fx{fx!r}"] = np.array([getattr(r, key) for r in reals])
-    doc = {"realizations": ns.realizations,
-           "seeds": f"{ns.seed}..{ns.seed + ns.realizations - 1}",
-           "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
-           "units": "length 2R, time " + PAPER_TIME_UNIT, "results": results,
-           "members": "members/fx<F>_seed<S>_<12 hex of the member's fingerprint>.npz, "
-                      "one per realization"}
-    if len(fxs) >= 2:
-        slope, intercept = np.polyfit(fxs, [r["v_com"] for r in results], 1)
-        doc["v_com_fit"] = {"intercept": float(intercept), "slope": float(slope)}
-    doc.update(_meta(scene, ns, 0.0))
-    with rd.stage("write"):
-        rd.write_npz("waves.npz", **arrays)
-        rd.write_png("waves.png", lambda tmp: wave_figure(all_reals, tmp))
-    _finish(rd, doc, scene, ns, argv, protocol)
-    for r in results:
-        print(f"F_x = {r['fx']!r}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "
-              f"V2 = {r['v2']:.3f} +- {r['v2_err']:.3f}, v_cm = {r['v_com']:.2e}")
-    print(f"wrote {rd.path}/waves.json, waves.npz, waves.png, members/")
-    return 0
 
 
 def run(ns, argv=None):
