@@ -34,6 +34,20 @@ def test_latest_prunes_and_checks_the_fingerprint(tmp_path):
     assert not (tmp_path / "c").exists()
 
 
+def test_a_hand_edited_checkpoint_is_refused(tmp_path):
+    """A checkpoint carries a SHA-256 of its arrays: one changed value (written back
+    as a valid NPZ) is refused by --resume, naming the file."""
+    ck = Checkpointer(tmp_path / "c", {"n": 3})
+    path = ck.save(10, q=np.arange(3.0), v=np.zeros(3))
+    with np.load(path) as z:
+        data = {k: z[k] for k in z.files}
+    data["q"][1] = 1.5
+    with open(path, "wb") as fh:
+        np.savez(fh, **data)
+    with pytest.raises(ParameterError, match="ckpt_000000000010.npz does not match its checksum"):
+        ck.latest()
+
+
 def test_check_finite_names_item_component_and_step():
     f = np.zeros((4, 3))
     check_finite("force", f, step=5)

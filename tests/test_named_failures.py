@@ -107,3 +107,22 @@ def test_warnings_go_into_the_record_and_one_line(tmp_path, capsys, monkeypatch)
     rec = json.loads((out / "ramp.json").read_text())
     assert [(w["category"], w["message"], w["count"]) for w in rec["warnings"]] == \
         [("RuntimeWarning", "a test warning", 3)]
+
+
+@pytest.mark.parametrize("content, words", [
+    ("npy", "not an NPZ archive"), ("other", "pos is not a file"), ("garbage", "not an NPZ")])
+def test_a_foreign_packing_file_is_refused_naming_it(content, words, tmp_path, capsys):
+    """A .npy named .npz, an NPZ of something else, garbage: exit 2, one line."""
+    import numpy as np
+    path = tmp_path / "p.npz"
+    if content == "npy":
+        with open(path, "wb") as fh:
+            np.save(fh, np.zeros(3))
+    elif content == "other":
+        with open(path, "wb") as fh:
+            np.savez(fh, a=np.zeros(3))
+    else:
+        path.write_bytes(b"garbage" * 10)
+    rc, _, err = _run(["packing", "rigidity", "--packing", str(path), "--kt", "1",
+                       "--out", str(tmp_path / "o")], capsys)
+    _refused(rc, err, str(path), words)

@@ -292,7 +292,8 @@ def _cmd_verify(ns):
               f"{r['central_cases_above_bound']:6d} {r['central_unexplained_cases']:9d} "
               f"{slope:>13s} {r['taylor_failed_cases']:8d} {r['nonfinite']:9d}")
     if ns.json is not None:
-        ns.json.write_text(json.dumps(results, indent=2) + "\n")
+        from fricstab.io.files import write_json
+        write_json(ns.json, results)   # atomically: a complete report or none
         print(f"wrote {ns.json}")
     ok = capped_ok and all(r["complex_step_unexplained_cases"] == 0 and r["central_unexplained_cases"] == 0
              and r["central_mp50_unexplained_cases"] == 0 and r["taylor_failed_cases"] == 0

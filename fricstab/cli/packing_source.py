@@ -82,9 +82,10 @@ def _load(path, data, flag="--packing"):
     from fricstab.scenes.packing import Packing
     try:
         return Packing.load(io.BytesIO(data))
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as exc:
-        raise ParameterError(f"{flag}: cannot read a packing from {path}: "
-                             f"{' '.join(str(exc).split())}") from None
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        why = ("not an NPZ archive" if "pickled" in str(exc) or "pickle" in str(exc)
+               else " ".join(str(exc).split()))
+        raise ParameterError(f"{flag}: cannot read a packing from {path}: {why}") from None
 
 
 def _checked(folder, npz, flag):

@@ -12,6 +12,7 @@ error (:class:`fricstab.laws.ParameterError` naming the first differing key):
 the continued run would not be the run that was asked for.
 """
 
+import hashlib
 import json
 import re
 import zipfile
@@ -25,6 +26,16 @@ from fricstab.laws import ParameterError
 __all__ = ["Checkpointer"]
 
 _NAME = re.compile(r"^ckpt_(\d{12})\.npz$")
+
+
+def _digest(arrays):
+    """SHA-256 over the names, dtypes, shapes and bytes of ``arrays`` (sorted by name)."""
+    h = hashlib.sha256()
+    for key in sorted(arrays):
+        a = np.ascontiguousarray(arrays[key])
+        h.update(f"{key}|{a.dtype.str}|{a.shape}|".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
 
 
 def _fingerprint_text(fingerprint):
@@ -64,9 +75,12 @@ class Checkpointer:
         self.directory.mkdir(parents=True, exist_ok=True)
         path = self.directory / f"ckpt_{int(step):012d}.npz"
 
+        content = {"step": np.int64(step), "fingerprint": np.array(self._text),
+                   **{k: np.asarray(v) for k, v in arrays.items()}}
+
         def write(tmp):
             with open(tmp, "wb") as fh:
-                np.savez(fh, step=np.int64(step), fingerprint=np.array(self._text), **arrays)
+                np.savez(fh, checksum=np.array(_digest(content)), **content)
 
         atomic_write(path, write)
         for old in self._files()[:-self.keep]:
@@ -83,6 +97,11 @@ class Checkpointer:
                     data = {k: z[k] for k in z.files}
             except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError):
                 continue   # cannot happen with atomic writes; a damaged file is skipped
+            checksum = str(data.pop("checksum", ""))
+            if checksum != _digest(data):
+                raise ParameterError(f"--resume: the checkpoint {path} does not match its "
+                                     "checksum (changed after it was written, or written by "
+                                     "another version); rerun with --force")
             stored = str(data.pop("fingerprint", ""))
             if stored != self._text:
                 raise ParameterError(f"--resume: the checkpoint {path} was made with other "

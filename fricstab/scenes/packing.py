@@ -123,8 +123,11 @@ class Packing:
 
     @classmethod
     def load(cls, path):
-        """Read a packing written by :meth:`save`."""
-        with np.load(path) as data:
+        """Read a packing written by :meth:`save` (ValueError if ``path`` holds no NPZ archive)."""
+        data = np.load(path, allow_pickle=False)
+        if not isinstance(data, np.lib.npyio.NpzFile):
+            raise ValueError("not an NPZ archive (a single .npy array)")
+        with data:
             return cls(pos=data["pos"], diameter=data["diameter"], box=float(data["box"]),
                        phi=float(data["phi"]), seed=int(data["seed"]),
                        info=json.loads(str(data["info"])))
