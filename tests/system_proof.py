@@ -121,15 +121,16 @@ def _on_engine_branch(system, state):
     history's size only through terms of relative size 1e-12, far below the
     1e-10 bound, and the reference is differentiated on the engine's branch.
     Flags (:func:`fricstab.engine.passes.project_pass`): bit 1 the tangential
-    history (charan's whole vector), bit 2 lee_hurley's rolling history.
+    history, bit 2 the rolling history.  Only lee_hurley's block jumps at a cap.
     """
+    hist = state.contacts.hist.copy()
+    if system.material.law != "lee_hurley":
+        return hist   # charan's smoothed Coulomb law is C1 at t*, ishima and hertz have no cap
     s = state.copy()
     system.project(s)
-    hist = state.contacts.hist.copy()
     flag = s.contacts.flag.astype(int)
-    bits = (1, 2) if system.material.law == "lee_hurley" else (1, 1)
-    for b in range(min(hist.shape[1], 2)):
-        slide = (flag & bits[b]) != 0
+    for b, bit in enumerate((1, 2)):
+        slide = (flag & bit) != 0
         hist[:, b] *= np.where(slide, 1.0 + BRANCH_NUDGE, 1.0 - BRANCH_NUDGE)
     return hist
 
