@@ -25,7 +25,7 @@ from fricstab.engine.jacobian import jacobian
 from fricstab.laws import get_law
 
 __all__ = ["WorstErrors", "complex_step_jacobian", "central_jacobian", "free_dofs",
-           "reference_forces"]
+           "reference_forces", "translation_residual"]
 
 GEOMETRY = {"dx", "dy", "Ri", "Rj", "y", "R"}
 
@@ -171,6 +171,18 @@ def central_jacobian(system, state, h, free_only=True):
 def engine_jacobian(system, state, free_only=True):
     """The engine's assembled Jacobian, dense."""
     return jacobian(system, state, free_only)[1].toarray()
+
+
+def translation_residual(system, state):
+    """Largest ``|K e| / max|K|`` over the x and y translations ``e``, in eps (the
+    full Jacobian, every particle free; a periodic scene has them as zero modes)."""
+    full = engine_jacobian(system, state, free_only=False)
+    worst = 0.0
+    for axis in (0, 1):
+        e = np.zeros(full.shape[0])
+        e[axis::system.dof] = 1.0
+        worst = max(worst, np.abs(full @ e).max() / np.abs(full).max())
+    return worst / float(np.finfo(float).eps)
 
 
 class WorstErrors:
