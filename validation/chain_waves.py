@@ -120,7 +120,7 @@ def main(argv=None):
             lines.append(f"| {thr} | {fit.v2:.3f} +- {fit.v2_err:.3f} | {fit.v1:.5f} +- {fit.v1_err:.5f} |")
     lines += ["", "![waves](chain_waves.png)"]
     (HERE / "chain_waves.md").write_text("\n".join(lines) + "\n")
-    wave_figure(all_reals, HERE / "chain_waves.png")
+    wave_figure(all_reals, HERE / "chain_waves.png", {r[0]: r[1] for r in rows})
     print("\n".join(lines))
 
 

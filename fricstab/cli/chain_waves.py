@@ -57,13 +57,13 @@ def waves(ns, argv):
         stored = run_ensemble(realization_member, members, rd.path, scheduler=ns.scheduler,
                               workers=ns.workers, progress=not ns.no_progress, desc="waves",
                               fingerprints=dict(keys.values()))
-    results, all_reals, arrays = [], {}, {}
+    results, all_reals, arrays, fits = [], {}, {}, {}
     with rd.stage("fits"):
         for fx in fxs:
             sc, eq = scene.with_fx(fx), equilibria[fx]
             reals = [realization_from_arrays(stored[keys[fx, seed][0]]) for seed in seeds]
             all_reals[fx] = reals
-            fit = fit_waves(reals)
+            fit = fits[fx] = fit_waves(reals)
             _, jac = forces_and_jacobian(sc, eq)
             w = decompose(jac, mass_vector(scene), vectors=False).eigenvalues
             growth = float(np.abs(np.sqrt(w.astype(complex)).real).max()) * unit
@@ -90,7 +90,7 @@ def waves(ns, argv):
     doc.update(_meta(scene, ns, 0.0))
     with rd.stage("write"):
         rd.write_npz("waves.npz", **arrays)
-        rd.write_png("waves.png", lambda tmp: wave_figure(all_reals, tmp))
+        rd.write_png("waves.png", lambda tmp: wave_figure(all_reals, tmp, fits))
     _finish(rd, doc, scene, ns, argv, protocol)
     for r in results:
         print(f"F_x = {r['fx']!r}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "

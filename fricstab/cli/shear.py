@@ -154,20 +154,6 @@ def _params_of(ns):
     return params
 
 
-def _figure(strain, tau, phases_from, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 3.5), constrained_layout=True)
-    ax.plot(100 * strain, tau, lw=0.6, color="k")
-    ax.axvline(100 * phases_from, color="C1", lw=0.8, ls="--", label="stick-slip window")
-    ax.set_xlabel("shear strain (%)")
-    ax.set_ylabel(r"$\tau = S/N$")
-    ax.legend(loc="lower right", frameon=False)
-    fig.savefig(path, format="png", dpi=130)
-    plt.close(fig)
-
-
 def phase_count(strain, tau, gamma0):
     """Stick/slip phases of ``tau`` in the window strain >= gamma0 (helper A's rule)."""
     from fricstab.analysis.shear_phases import find_phases
@@ -260,7 +246,8 @@ def run_shear(params, out, *, resume=False, force=False, progress=False, argv=No
     series = np.concatenate(rows)
     rd.write_npz("shear.npz", **{n: series[:, i] for i, n in enumerate(SERIES)})
     strain, tau = series[:, 1], series[:, 4]
-    rd.write_png("shear.png", lambda path: _figure(strain, tau, params["gamma0"], path))
+    from fricstab.figures.shear import fig_shear_run
+    rd.write_png("shear.png", lambda path: fig_shear_run(strain, tau, params["gamma0"], path))
     numbers = _numbers(params, cell, sim, series, json.loads((rd.path / "prepare.json")
                                                              .read_text()), seconds, steps,
                        n_frames, chunk, H0)

@@ -144,25 +144,7 @@ def _analysis_outputs(rd, frames, res, numbers, arrays):
                                                                           frames.n_frames))))
     if sp:
         rd.write_png("analysis_slip_spectra.png",
-                     lambda path: _spectra_figure(arrays, path))
-
-
-def _spectra_figure(a, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    d = np.asarray(a.get("slip_dtau_p", []))
-    fig, ax = plt.subplots(1, 2, figsize=(8, 3.2), constrained_layout=True)
-    ax[0].set_title("Jacobian before each slip")
-    for axis, key, label in ((ax[0], "slip_n_complex_pairs", "complex pairs"),
-                             (ax[1], "slip_max_growth_rate", "largest growth rate (1/s)")):
-        if key in a and d.size:
-            axis.scatter(-d, a[key], s=6)
-        axis.set_xscale("log")
-        axis.set_xlabel(r"$-\Delta\tau_p$ of the following slip")
-        axis.set_ylabel(label)
-    fig.savefig(path, format="png", dpi=120)
-    plt.close(fig)
+                     lambda path: sf.fig_slip_spectra(arrays, path))
 
 
 def export(ns):

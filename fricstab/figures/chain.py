@@ -4,33 +4,36 @@
 F_x, conjugate pairs in red, located events as vertical lines (Charan
 Fig. 2).  ``dynamics_figure``: M(t) (Fig. 3), a disk's trajectory (Fig. 4)
 and the centre of mass (Fig. 7).  ``wave_figure``: the realization-averaged
-forward wave of Coulomb breaching and backward wave of sliding (Fig. 5).
-Times and eigenvalues in Charan's units (length 2R, time sqrt(m 2R/kn)).
-Each writes a PNG to ``path``.
+forward wave of Coulomb breaching and backward wave of sliding (Fig. 5) with
+the fitted lines whose slopes are V1 and V2.
+
+Units are Charan's: length 2R, time t_0 = sqrt(m 2R / k_n), forces in the
+paper's units (m = 2R = 1, F_y = 0.1).  Disks are numbered from 1 as in the
+paper (disk 1 is the pushed disk, index 0 of the arrays).  Each function
+returns the Figure; with ``path`` it writes the PNG and closes it
+(:mod:`fricstab.figures.common`).
 """
 
 import numpy as np
 
+from fricstab.figures.common import finish, note, pyplot
+
 __all__ = ["dynamics_figure", "ramp_figure", "wave_figure"]
 
-
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+UNITS = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, "
+         r"forces with $m = 2R = 1$ ($F_y = 0.1$)")
 
 
-def ramp_figure(res, events, unit2, path):
-    """Charan Fig. 2 from a :class:`fricstab.protocols.ramp.RampResult`.
+def ramp_figure(res, events, unit2, path=None):
+    """Charan Fig. 2 from a ramp result (``res.fx`` (S,), ``res.eigenvalues`` (S, n)).
 
     ``events`` are the records of the ramp (dicts with ``fx`` and ``kind``),
     ``unit2`` the square of Charan's time unit (eigenvalues times it are in
-    paper units).
+    units of t_0^-2).
     """
-    plt = _pyplot()
+    plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
-    w = res.eigenvalues * unit2
+    w = np.asarray(res.eigenvalues) * unit2
     top.plot(res.fx, w.real, color="0.75", lw=0.6)
     cplx = np.where(np.abs(w.imag) > 0, w.real, np.nan)
     top.plot(res.fx, cplx, color="C3", lw=1.4)
@@ -38,62 +41,107 @@ def ramp_figure(res, events, unit2, path):
     for e in events:
         for ax in (top, bottom):
             ax.axvline(e["fx"], color="C0" if e["kind"] == "birth" else "C2", lw=0.6, ls="--")
-    top.set_ylabel("Re eigenvalue of $M^{-1}J$ (paper units)")
-    bottom.set_ylabel("Im eigenvalue (paper units)")
-    bottom.set_xlabel("$F_x$")
-    top.set_title("Chain ramp: complex pairs (red); births blue, deaths green")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120, format="png")
-    plt.close(fig)
+    from matplotlib.lines import Line2D
+    handles = [Line2D([], [], color="0.75", lw=0.6, label="real eigenvalue"),
+               Line2D([], [], color="C3", lw=1.4, label="complex pair"),
+               Line2D([], [], color="C0", lw=0.6, ls="--", label="birth of a pair"),
+               Line2D([], [], color="C2", lw=0.6, ls="--", label="death of a pair")]
+    top.legend(handles=handles, fontsize=8, loc="lower left")
+    top.set_ylabel(r"Re $\lambda(M^{-1}J)$ [$t_0^{-2}$]")
+    bottom.set_ylabel(r"Im $\lambda(M^{-1}J)$ [$t_0^{-2}$]")
+    bottom.set_xlabel(r"$F_x$ [$F_y / 0.1$]")
+    top.set_title("Chain ramp: eigenvalues against the pushing force (cf. Charan Fig. 2)")
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    note(fig, UNITS)
+    return finish(fig, path, dpi=120)
 
 
-def dynamics_figure(t, m, com, positions, disk, path):
-    """Figs. 3, 4, 7: M(t), the trajectory of ``disk``, the centre of mass (t in paper units)."""
-    plt = _pyplot()
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-    axes[0].semilogy(t[1:], m[1:])  # M(0) = 0
-    axes[0].set_xlabel("t (paper units)")
-    axes[0].set_ylabel("M(t) (2R)^2")
-    axes[0].set_title("mean-square displacement (Fig. 3)")
-    sc = axes[1].scatter(positions[:, disk, 0], positions[:, disk, 1], c=t, s=1, cmap="viridis")
-    fig.colorbar(sc, ax=axes[1], label="t (paper units)")
-    axes[1].set_xlabel("x (2R)")
-    axes[1].set_ylabel("y (2R)")
-    axes[1].set_title(f"trajectory of disk {disk} (Fig. 4)")
-    axes[2].plot(t, com[:, 0] - com[0, 0], label="x")
-    axes[2].plot(t, com[:, 1] - com[0, 1], label="y")
-    axes[2].set_xlabel("t (paper units)")
-    axes[2].set_ylabel("centre of mass - initial (2R)")
-    axes[2].legend()
-    axes[2].set_title("centre of mass (Fig. 7)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110, format="png")
-    plt.close(fig)
+def dynamics_figure(t, m, com, positions, disk, path=None):
+    """Figs. 3, 4, 7: M(t), the trajectory of ``disk`` (0-based index), the centre of mass.
+
+    ``t`` (T,) in t_0, ``m`` (T,) in (2R)^2, ``com`` (T, 2) and ``positions``
+    (T, N, >=2) in 2R.  The disk is labelled ``disk + 1``: the paper's number.
+    """
+    plt = pyplot()
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
+    (a, b), (c, d) = axes
+    a.semilogy(t[1:], m[1:], color="C0")  # M(0) = 0
+    a.set_xlabel(r"$t$ [$t_0$]")
+    a.set_ylabel(r"$M(t)$ [$(2R)^2$]")
+    a.set_title("(a) mean-square displacement (cf. Fig. 3)")
+    sc = b.scatter(positions[:, disk, 0], positions[:, disk, 1], c=t, s=2, cmap="viridis",
+                   rasterized=True)
+    fig.colorbar(sc, ax=b, label=r"$t$ [$t_0$]")
+    b.set_xlabel(r"$x$ [$2R$]")
+    b.set_ylabel(r"$y$ [$2R$]")
+    b.set_title(f"(b) trajectory of disk {disk + 1} of {positions.shape[1]} (cf. Fig. 4)")
+    b.ticklabel_format(useOffset=False)
+    c.plot(t, com[:, 0] - com[0, 0], color="C1")
+    c.set_xlabel(r"$t$ [$t_0$]")
+    c.set_ylabel(r"$x_{cm}(t) - x_{cm}(0)$ [$2R$]")
+    c.set_title("(c) centre of mass, x (cf. Fig. 7)")
+    d.plot(t, com[:, 1] - com[0, 1], color="C2")
+    d.set_xlabel(r"$t$ [$t_0$]")
+    d.set_ylabel(r"$y_{cm}(t) - y_{cm}(0)$ [$2R$]")
+    d.set_title("(d) centre of mass, y")
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    note(fig, UNITS + "; disks numbered from 1 (the pushed disk) as in the paper")
+    return finish(fig, path, dpi=110)
 
 
-def wave_figure(all_reals, path):
+def _line(ax, dt, dx, style, label):
+    """Averaged points and their least-squares line (slope = the reported speed)."""
+    ok = np.isfinite(dt) & np.isfinite(dx)
+    marker, colour = style
+    ax.plot(dt, dx, marker, color=colour, ls="none", ms=5)
+    if ok.sum() >= 3 and np.ptp(dt[ok]) > 0:
+        slope, icpt = np.polyfit(dt[ok], dx[ok], 1)
+        span = np.array([dt[ok].min(), dt[ok].max()])
+        ax.plot(span, icpt + slope * span, color=colour, lw=1.2, label=label)
+    else:
+        ax.plot([], [], marker, color=colour, label=label + " (no fit: < 3 disks)")
+
+
+def _speed(name, fit, key):
+    if fit is None:
+        return name
+    v, e = getattr(fit, key), getattr(fit, key + "_err")
+    return f"{name} = {v:.3g} ± {e:.1g}"
+
+
+def wave_figure(all_reals, path=None, fits=None):
     """Charan Fig. 5: realization-averaged breach (upper) and sliding (lower) waves.
 
-    ``all_reals`` maps F_x to a list of :class:`fricstab.protocols.waves.Realization`.
+    ``all_reals`` maps F_x to a list of :class:`fricstab.protocols.waves.Realization`;
+    ``fits`` (optional) maps F_x to its :class:`~fricstab.protocols.waves.WaveFit`,
+    whose V1, V2 and errors label the lines.  The lines are the least-squares fits
+    of the plotted points: slope V1 (upper) and -V2 (lower) by construction.
     """
     from fricstab.protocols.waves import nanmean
-    plt = _pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 8))
-    for fx, reals in all_reals.items():
+    plt = pyplot()
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 8.5))
+    styles = ("o", "s", "^", "D", "v", "P", "X", "*")
+    for n, (fx, reals) in enumerate(all_reals.items()):
+        style = (styles[n % len(styles)], f"C{n % 10}")
+        fit = (fits or {}).get(fx)
         dt = nanmean([r.tau - r.tau[0] for r in reals])
         dx = nanmean([r.x_tau - r.x_tau[0] for r in reals])
-        top.plot(dt, dx, "o-", label=f"F_x = {fx}")
+        _line(top, dt, dx, style, f"$F_x$ = {fx:g}: " + _speed("$V_1$", fit, "v1"))
         dts = nanmean([r.tau_slide - r.tau_slide[-1] for r in reals])
         dxs = nanmean([r.x_slide - r.x_slide[-1] for r in reals])
-        bottom.plot(dts, dxs, "o-", label=f"F_x = {fx}")
-    top.set_xlabel("tau - tau_1 (paper units)")
-    top.set_ylabel("x(tau) - x_1 (2R)")
-    top.set_title("forward wave of Coulomb breaching (Fig. 5 upper)")
-    bottom.set_xlabel("tau* - tau*_last (paper units)")
-    bottom.set_ylabel("x* - x*_last (2R)")
-    bottom.set_title("backward wave of sliding (Fig. 5 lower)")
+        _line(bottom, dts, dxs, style, f"$F_x$ = {fx:g}: " + _speed("$V_2$", fit, "v2"))
+    count = len(next(iter(all_reals.values()), []))
+    top.set_xlabel(r"$\tau_i - \tau_1$ [$t_0$]")
+    top.set_ylabel(r"$x_i(\tau_i) - x_1(\tau_1)$ [$2R$]")
+    top.set_title(f"(a) forward wave of Coulomb breaching (cf. Fig. 5 upper), {count} "
+                  "realizations", fontsize=10)
+    last = len(next(iter(all_reals.values()))[0].tau) if all_reals else "N"
+    bottom.set_xlabel(rf"$\tau^*_i - \tau^*_{{{last}}}$ [$t_0$]")
+    bottom.set_ylabel(rf"$x^*_i - x^*_{{{last}}}$ [$2R$]")
+    bottom.set_title("(b) backward wave of sliding (cf. Fig. 5 lower)", fontsize=10)
     for ax in (top, bottom):
-        ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=110, format="png")
-    plt.close(fig)
+        ax.legend(fontsize=8, title=r"points: mean over realizations; lines: fits, "
+                  r"speeds in $2R/t_0$", title_fontsize=7)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    note(fig, UNITS + "; disk i counted from 1 (the pushed disk)")
+    return finish(fig, path, dpi=110)

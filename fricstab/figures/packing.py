@@ -4,19 +4,34 @@
 contact forces as lines of width ~ force.  ``rigidity_figure``: G_A, G_NA and
 G (solve, modes, step strain) against kT/kN, and the nonaffine rates of theory
 against step strain (Ishima Fig. 3c).  ``dos_figure``: D(omega) (Fig. 9) and
-psi^T, psi^R against omega (Fig. 8).  Each writes a PNG to ``path``.
+psi^T, psi^R against omega (Fig. 8), one marker and line style per run so
+that runs with equal spectra (kT/kN = 1e-8 and 1e-4 share their
+translational band) stay visible on top of each other.
+
+Units are Ishima's: length d (large diameter), time t_0 = sqrt(m/k_N) d^(1/4),
+rigidity k_N d^(1/2).  Each function returns the Figure; with ``path`` it
+writes the PNG and closes it (:mod:`fricstab.figures.common`).
 """
 
 import numpy as np
 
+from fricstab.figures.common import finish, note, pyplot
+
 __all__ = ["dos_figure", "packing_figure", "rigidity_figure"]
 
+UNITS = (r"units (Ishima): length $d$ (large diameter), time $t_0=\sqrt{m/k_N}\,d^{1/4}$, "
+         r"rigidity $k_N d^{1/2}$")
+#: Marker, size, line style per run: later runs smaller, drawn on top of earlier ones.
+RUN_STYLES = (("o", 9, "-"), ("s", 6, "--"), ("^", 4, ":"), ("D", 3, "-."), ("v", 3, "-"),
+              ("x", 5, "--"))
 
-def packing_figure(packing, pairs, sep, force, rattler, path):
-    """Disks to scale, rattlers grey, contacts ``pairs`` (M, 2) with ``sep = r_i - r_j`` (M, 2)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+
+def packing_figure(packing, pairs, sep, force, rattler, path=None):
+    """Disks to scale, rattlers grey, contacts ``pairs`` (M, 2) with ``sep = r_i - r_j`` (M, 2).
+
+    ``packing`` needs ``box``, ``diameter``, ``pos``, ``n``, ``phi``, ``seed``.
+    """
+    plt = pyplot()
     from matplotlib.collections import LineCollection, PatchCollection
     from matplotlib.patches import Circle
 
@@ -54,20 +69,24 @@ def packing_figure(packing, pairs, sep, force, rattler, path):
     ax.set_xlim(0, box)
     ax.set_ylim(0, box)
     ax.set_aspect("equal")
-    ax.set_xlabel("x / d")
-    ax.set_ylabel("y / d")
+    ax.set_xlabel("$x$ [$d$]")
+    ax.set_ylabel("$y$ [$d$]")
     ax.set_title(f"N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
                  f"{m} contacts, {int(rattler.sum())} rattlers (grey)\n"
-                 "lines: contact forces, width ~ |f|")
+                 "lines: contact forces, width ~ |f| (Hertz, $k_N$ = 1)")
     fig.tight_layout()
-    fig.savefig(path, dpi=120, format="png")
-    plt.close(fig)
+    return finish(fig, path, dpi=120)
 
 
-def rigidity_figure(results, first, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def rigidity_figure(results, first, path=None):
+    """G_A, G_NA, G against kT/kN (a) and the nonaffine rates of one run (b).
+
+    ``results``: dicts with ``kt``, ``law``, ``g_a``, ``g_na_solve``, ``g``,
+    ``g_modes``, ``g_step``, ``g_step_error`` (None where absent); ``first``:
+    ``(label, u, step)`` with u and step (n, k) nonaffine rates of theory and
+    of the step strain.
+    """
+    plt = pyplot()
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
     pos = [e for e in results if e["kt"] is not None and e["kt"] > 0]
@@ -89,8 +108,8 @@ def rigidity_figure(results, first, path):
                    yerr=[e["g_step_error"] for e in pos], fmt="none", ecolor="k", capsize=3)
         a.set_xscale("log")
     a.axhline(0, color="0.6", lw=0.5)
-    a.set_xlabel("$k_T / k_N$")
-    a.set_ylabel("rigidity ($k_N d^{1/2}$)")
+    a.set_xlabel("$k_T / k_N$ [-]")
+    a.set_ylabel("rigidity [$k_N d^{1/2}$]")
     a.set_title("(a) rigidity" + (" (dotted: " + ", ".join(
         "$k_T = 0$" if e["kt"] == 0 else e["law"] for e in zero) + ")" if zero else ""))
     a.legend(fontsize=8)
@@ -104,44 +123,49 @@ def rigidity_figure(results, first, path):
     b.set_xlim(-lim, lim)
     b.set_ylim(-lim, lim)
     b.set_aspect("equal")
-    b.set_xlabel("nonaffine rate, theory ($u = J^{-1} \\Xi$)")
-    b.set_ylabel("nonaffine rate, step strain")
+    b.set_xlabel("nonaffine rate $du/d\\gamma$, theory ($u = J^{-1} \\Xi$) [$d$]")
+    b.set_ylabel("nonaffine rate $du/d\\gamma$, step strain [$d$]")
     b.set_title(f"(b) {label} (cf. Ishima Fig. 3c)")
     b.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110, format="png")
-    plt.close(fig)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    note(fig, UNITS + "; $l = R\\theta$ for the rotational components")
+    return finish(fig, path, dpi=110)
 
 
-def dos_figure(spectra, edges, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def dos_figure(spectra, edges, path=None):
+    """D(omega) (a) and the binned participation fractions psi^T, psi^R (b).
 
+    ``spectra``: dicts with ``label``, ``k`` (dof per particle), ``omega``
+    (modes), ``dos``, ``psi_t_mean``, ``psi_r_mean`` (per bin of ``edges``).
+    """
+    plt = pyplot()
     centres = np.sqrt(edges[:-1] * edges[1:])
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.2))
     for i, s in enumerate(spectra):
         colour = f"C{i % 10}"
+        marker, size, ls = RUN_STYLES[i % len(RUN_STYLES)]
+        kw = dict(color=colour, marker=marker, ms=size, ls=ls, lw=1.0, mfc="none", mew=1.1)
         d = np.where(s["dos"] > 0, s["dos"], np.nan)
-        a.plot(centres, d, "o-", color=colour, ms=3, label=s["label"])
+        a.plot(centres, d, label=s["label"], **kw)
         empty = np.histogram(s["omega"], bins=edges)[0] == 0
-        b.plot(centres, np.where(empty, np.nan, s["psi_t_mean"]), ".-", color=colour, ms=3,
-               label=f"$\\psi^T$, {s['label']}")
+        b.plot(centres, np.where(empty, np.nan, s["psi_t_mean"]),
+               **{**kw, "ls": "-"}, label=f"$\\psi^T$, {s['label']}")
         if s["k"] == 3:
-            b.plot(centres, np.where(empty, np.nan, s["psi_r_mean"]), "x--", color=colour,
-                   ms=3, label=f"$\\psi^R$, {s['label']}")
+            b.plot(centres, np.where(empty, np.nan, s["psi_r_mean"]),
+                   **{**kw, "ls": "--", "mfc": colour}, label=f"$\\psi^R$, {s['label']}")
     a.set_xscale("log")
     a.set_yscale("log")
-    a.set_xlabel("$\\omega t_0$")
-    a.set_ylabel("$D(\\omega)$")
-    a.set_title("density of states (cf. Ishima Fig. 9)")
-    a.legend(fontsize=8)
+    a.set_xlabel("$\\omega$ [$t_0^{-1}$]")
+    a.set_ylabel("$D(\\omega)$ [$t_0$]")
+    a.set_title("(a) density of states (cf. Ishima Fig. 9)")
+    a.legend(fontsize=8, title="one marker per run; equal bands overlap",
+             title_fontsize=7)
     b.set_xscale("log")
-    b.set_ylim(-0.02, 1.02)
-    b.set_xlabel("$\\omega t_0$")
-    b.set_ylabel("participation fraction")
-    b.set_title("$\\psi^T$ (solid), $\\psi^R$ (dashed) (cf. Ishima Fig. 8)")
+    b.set_ylim(-0.04, 1.04)
+    b.set_xlabel("$\\omega$ [$t_0^{-1}$]")
+    b.set_ylabel("participation fraction per bin [-]")
+    b.set_title("(b) $\\psi^T$ (open, solid), $\\psi^R$ (filled, dashed) (cf. Ishima Fig. 8)")
     b.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110, format="png")
-    plt.close(fig)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    note(fig, UNITS + "; $D(\\omega)$ = modes per bin / (3N bin width), translations dropped")
+    return finish(fig, path, dpi=110)
