@@ -344,10 +344,10 @@ def figure(variants, results, path):
             ax.axvline(p, color="0.6" if PAPER[p] else "C2", lw=0.7, ls="--")
         ax.axvspan(THRESHOLD, FX_MAX, color="C1", alpha=0.08)
         ax.set_ylim(-0.3, max(3.5, np.nanmax(c) + 0.5) if np.isfinite(c).any() else 3.5)
-        ax.set_ylabel("pairs", fontsize=7)
+        ax.set_ylabel("pairs [-]", fontsize=7)
         ax.tick_params(labelsize=7)
         ax.set_title(v["label"], fontsize=8, loc="left", pad=2)
-    axes[-1].set_xlabel("F_x")
+    axes[-1].set_xlabel("F_x [k_n (2R)^(3/2) / 2000]")
     fig.suptitle("Complex-conjugate pairs of M^-1 J at the ramp steps (dashed: paper's F_x; "
                  "green: 0.062, paper: none; shaded: F_x > 0.082)", fontsize=8)
     fig.tight_layout()

@@ -382,9 +382,9 @@ def plot(results, path):
         ax.grid(True, which="major", alpha=0.3)
         ax.tick_params(labelsize=9)
     for ax in axes[1]:
-        ax.set_xlabel("relative step h / L  (smaller to the right)", fontsize=10)
+        ax.set_xlabel("relative step h / L [-] (smaller to the right)", fontsize=10)
     for ax in axes[:, 0]:
-        ax.set_ylabel("row-relative error of the Jacobian block", fontsize=10)
+        ax.set_ylabel("row-relative error of the Jacobian block [-]", fontsize=10)
     handles, labels = axes.flat[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=10.5, frameon=False)
     fig.suptitle("Finite-difference error vs step, against the generated Jacobian "

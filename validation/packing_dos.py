@@ -35,6 +35,7 @@ from _packings import ishima, packing  # noqa: E402
 from fricstab.analysis.dos import (binned_mean, dos, log_bins, participation,  # noqa: E402
                                    rotational_peak, spectrum)
 from fricstab.analysis.rigidity import linear_response  # noqa: E402
+from fricstab.figures.packing import RUN_STYLES  # noqa: E402
 from fricstab.scenes.packing_friction import Backbone, backbone  # noqa: E402
 
 KTS = (1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1.0, 10.0)
@@ -123,22 +124,26 @@ def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
         pm = binned_mean(om, pp, edges)
         ax[0, 3].loglog(mid, np.where(pm > 0, pm, np.nan), mk + "-", ms=3, label=f"{kt:g}")
     ax[0, 3].axhline(1 / n_total, color="k", ls="--", lw=0.8, label="1/N")
-    ax[0, 3].set(xlabel="omega t0", ylabel="p(omega)", title="participation ratio (Fig. 14)")
+    ax[0, 3].set(xlabel="omega [t0^-1]", ylabel="participation ratio p(omega) [-]", title="participation ratio (Fig. 14)")
     ax[0, 3].legend(title="kT/kN", fontsize=7)
     ax[1, 3].axis("off")
-    for kt in kts:
+    for i, kt in enumerate(kts):
         om = np.concatenate([s[kt][0] for s in samples])
         d = dos(om, n_total * len(samples), edges)
-        ax[0, 0].loglog(mid, np.where(d > 0, d, np.nan), ".-", label=f"{kt:g}")
+        # Equal bands (the translational band of 1e-8 and 1e-4) stay visible:
+        # a larger open marker under a smaller one, another dash.
+        mk, size, ls = RUN_STYLES[i % len(RUN_STYLES)]
+        ax[0, 0].loglog(mid, np.where(d > 0, d, np.nan), marker=mk, ms=size, ls=ls, mfc="none",
+                        label=f"{kt:g}")
         if kt <= 1e-2:
             wr = np.sqrt(kt)
             e2 = log_bins(0.01, 100.0, 60)
             d2 = dos(om / wr, n_total * len(samples), e2)
             m2 = np.sqrt(e2[1:] * e2[:-1])
             ax[0, 1].loglog(m2, np.where(d2 > 0, d2, np.nan), ".-", label=f"{kt:g}")
-    ax[0, 0].set(xlabel="omega t0", ylabel="D(omega)", title="DOS (Fig. 9)")
+    ax[0, 0].set(xlabel="omega [t0^-1]", ylabel="D(omega) [t0]", title="DOS (Fig. 9)")
     ax[0, 0].legend(title="kT/kN", fontsize=7)
-    ax[0, 1].set(xlabel="omega / omega_R", ylabel="omega_R D", xlim=(0.05, 20),
+    ax[0, 1].set(xlabel="omega / omega_R [-]", ylabel="omega_R D [-]", xlim=(0.05, 20),
                  title="rotational band collapse (Fig. 10)")
     ax[0, 1].legend(title="kT/kN", fontsize=7)
     for kt, mk in ((1e-8, "o"), (1e-4, "s"), (1.0, "^")):
@@ -149,20 +154,20 @@ def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
                           label=f"psi^R, {kt:g}")
         ax[0, 2].semilogx(mid, binned_mean(om, pt, edges), mk + "--", ms=3, mfc="none",
                           label=f"psi^T, {kt:g}")
-    ax[0, 2].set(xlabel="omega t0", ylabel="participation fraction", title="Fig. 8")
+    ax[0, 2].set(xlabel="omega [t0^-1]", ylabel="participation fraction [-]", title="Fig. 8")
     ax[0, 2].legend(fontsize=6)
     om8 = np.concatenate([s[1e-8][0] for s in samples])
     d8 = dos(om8, n_total * len(samples), edges)
     dh = dos(hess, n_total * len(samples), edges)
     ax[1, 0].loglog(mid[d8 > 0], d8[d8 > 0], "o", ms=3, label="Jacobian, kT/kN = 1e-8")
     ax[1, 0].loglog(mid[dh > 0], dh[dh > 0], "^", ms=3, label="frictionless Hessian")
-    ax[1, 0].set(xlabel="omega t0", ylabel="D(omega)", title="Fig. 11")
+    ax[1, 0].set(xlabel="omega [t0^-1]", ylabel="D(omega) [t0]", title="Fig. 11")
     ax[1, 0].legend(fontsize=7)
     for kt, (oj, oh) in eff.items():
         dj, dh2 = dos(oj, n_total, edges), dos(oh, n_total, edges)
         ax[1, 1].loglog(mid[dj > 0], dj[dj > 0], "o", ms=3, label=f"J, {kt:g}")
         ax[1, 1].loglog(mid[dh2 > 0], dh2[dh2 > 0], "x", ms=4, label=f"H_eff, {kt:g}")
-    ax[1, 1].set(xlabel="omega t0", ylabel="D(omega)",
+    ax[1, 1].set(xlabel="omega [t0^-1]", ylabel="D(omega) [t0]",
                  title="Jacobian vs effective Hessian after a 1e-4 step (Fig. 12)")
     if eff:
         ax[1, 1].legend(fontsize=6)
@@ -172,7 +177,7 @@ def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
         dw, do = dos(ow, n_total, edges), dos(oo, n_total, edges)
         ax[1, 2].loglog(mid[dw > 0], dw[dw > 0], "o", ms=3, label=f"with rattlers, {kt:g}")
         ax[1, 2].loglog(mid[do > 0], do[do > 0], "^", ms=3, label=f"without, {kt:g}")
-    ax[1, 2].set(xlabel="omega t0", ylabel="D(omega)", title="rattlers (Fig. 13)")
+    ax[1, 2].set(xlabel="omega [t0^-1]", ylabel="D(omega) [t0]", title="rattlers (Fig. 13)")
     if ratt:
         ax[1, 2].legend(fontsize=6)
     else:

@@ -146,14 +146,14 @@ def figure(table, curve, path):
         ax[0].errorbar(phis, [table[p][0][b] for p in phis], [table[p][2][b] for p in phis],
                        marker="o", label=lab)
         ax[2].plot(phis, [table[p][1][b] for p in phis], marker="o", label=lab)
-    ax[0].set(xlabel="phi", ylabel="G / (k_N d^1/2)", title="G vs phi (Fig. 4)")
+    ax[0].set(xlabel="phi [-]", ylabel="G [k_N d^1/2]", title="G vs phi (Fig. 4)")
     ax[2].axhline(0, color="k", lw=0.5)
-    ax[2].set(xlabel="phi", ylabel="G_NA / (k_N d^1/2)", title="G_NA vs phi (Fig. 6)")
+    ax[2].set(xlabel="phi [-]", ylabel="G_NA [k_N d^1/2]", title="G_NA vs phi (Fig. 6)")
     ax[0].legend(fontsize=7)
     kts, gs, g0 = curve
     ax[1].semilogx(kts, gs, "o-", label="frictional")
     ax[1].axhline(g0, color="k", ls="--", label="frictionless (kT = 0)")
-    ax[1].set(xlabel="kT/kN", ylabel="G / (k_N d^1/2)", title="G vs kT/kN, phi = 0.90 (Fig. 5)")
+    ax[1].set(xlabel="kT/kN [-]", ylabel="G [k_N d^1/2]", title="G vs kT/kN, phi = 0.90 (Fig. 5)")
     ax[1].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=120)

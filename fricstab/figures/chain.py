@@ -7,8 +7,8 @@ and the centre of mass (Fig. 7).  ``wave_figure``: the realization-averaged
 forward wave of Coulomb breaching and backward wave of sliding (Fig. 5) with
 the fitted lines whose slopes are V1 and V2.
 
-Units are Charan's: length 2R, time t_0 = sqrt(m 2R / k_n), forces in the
-paper's units (m = 2R = 1, F_y = 0.1).  Disks are numbered from 1 as in the
+Units are Charan's: length 2R, time t_0 = sqrt(m 2R / k_n), force
+k_n (2R)^(3/2) / 2000 (the simulation's units: m = 2R = 1, k_n = 2000, F_y = 0.1).  Disks are numbered from 1 as in the
 paper (disk 1 is the pushed disk, index 0 of the arrays).  Each function
 returns the Figure; with ``path`` it writes the PNG and closes it
 (:mod:`fricstab.figures.common`).
@@ -20,8 +20,8 @@ from fricstab.figures.common import finish, note, pyplot
 
 __all__ = ["dynamics_figure", "ramp_figure", "wave_figure"]
 
-UNITS = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, "
-         r"forces with $m = 2R = 1$ ($F_y = 0.1$)")
+UNITS = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, force "
+         r"$k_n (2R)^{3/2}/2000$ (the simulation's $k_n = 2000$, $F_y = 0.1$)")
 
 
 def ramp_figure(res, events, unit2, path=None):
@@ -49,7 +49,7 @@ def ramp_figure(res, events, unit2, path=None):
     top.legend(handles=handles, fontsize=8, loc="lower left")
     top.set_ylabel(r"Re $\lambda(M^{-1}J)$ [$t_0^{-2}$]")
     bottom.set_ylabel(r"Im $\lambda(M^{-1}J)$ [$t_0^{-2}$]")
-    bottom.set_xlabel(r"$F_x$ [$F_y / 0.1$]")
+    bottom.set_xlabel(r"$F_x$ [$k_n (2R)^{3/2} / 2000$]")
     top.set_title("Chain ramp: eigenvalues against the pushing force (cf. Charan Fig. 2)")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     note(fig, UNITS)
@@ -65,7 +65,7 @@ def dynamics_figure(t, m, com, positions, disk, path=None):
     plt = pyplot()
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
     (a, b), (c, d) = axes
-    a.semilogy(t[1:], m[1:], color="C0")  # M(0) = 0
+    a.semilogy(t[1:], m[1:], color="C0", lw=0.7, rasterized=True)  # M(0) = 0
     a.set_xlabel(r"$t$ [$t_0$]")
     a.set_ylabel(r"$M(t)$ [$(2R)^2$]")
     a.set_title("(a) mean-square displacement (cf. Fig. 3)")
@@ -80,7 +80,7 @@ def dynamics_figure(t, m, com, positions, disk, path=None):
     c.set_xlabel(r"$t$ [$t_0$]")
     c.set_ylabel(r"$x_{cm}(t) - x_{cm}(0)$ [$2R$]")
     c.set_title("(c) centre of mass, x (cf. Fig. 7)")
-    d.plot(t, com[:, 1] - com[0, 1], color="C2")
+    d.plot(t, com[:, 1] - com[0, 1], color="C2", lw=0.5, rasterized=True)
     d.set_xlabel(r"$t$ [$t_0$]")
     d.set_ylabel(r"$y_{cm}(t) - y_{cm}(0)$ [$2R$]")
     d.set_title("(d) centre of mass, y")
@@ -90,16 +90,20 @@ def dynamics_figure(t, m, com, positions, disk, path=None):
 
 
 def _line(ax, dt, dx, style, label):
-    """Averaged points and their least-squares line (slope = the reported speed)."""
+    """Averaged points and their least-squares line (slope = the reported speed).
+
+    Returns the legend entry: (points, line) drawn on top of each other.
+    """
     ok = np.isfinite(dt) & np.isfinite(dx)
     marker, colour = style
-    ax.plot(dt, dx, marker, color=colour, ls="none", ms=5)
+    (points,) = ax.plot(dt, dx, marker, color=colour, ls="none", ms=5)
     if ok.sum() >= 3 and np.ptp(dt[ok]) > 0:
         slope, icpt = np.polyfit(dt[ok], dx[ok], 1)
         span = np.array([dt[ok].min(), dt[ok].max()])
-        ax.plot(span, icpt + slope * span, color=colour, lw=1.2, label=label)
-    else:
-        ax.plot([], [], marker, color=colour, label=label + " (no fit: < 3 disks)")
+        (line,) = ax.plot(span, icpt + slope * span, color=colour, lw=1.2, label=label)
+        return (points, line), label
+    points.set_label(label + " (no fit: < 3 disks)")
+    return (points,), points.get_label()
 
 
 def _speed(name, fit, key):
@@ -121,15 +125,18 @@ def wave_figure(all_reals, path=None, fits=None):
     plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 8.5))
     styles = ("o", "s", "^", "D", "v", "P", "X", "*")
+    entries = {top: [], bottom: []}
     for n, (fx, reals) in enumerate(all_reals.items()):
         style = (styles[n % len(styles)], f"C{n % 10}")
         fit = (fits or {}).get(fx)
         dt = nanmean([r.tau - r.tau[0] for r in reals])
         dx = nanmean([r.x_tau - r.x_tau[0] for r in reals])
-        _line(top, dt, dx, style, f"$F_x$ = {fx:g}: " + _speed("$V_1$", fit, "v1"))
+        entries[top].append(_line(top, dt, dx, style,
+                                  f"$F_x$ = {fx:g}: " + _speed("$V_1$", fit, "v1")))
         dts = nanmean([r.tau_slide - r.tau_slide[-1] for r in reals])
         dxs = nanmean([r.x_slide - r.x_slide[-1] for r in reals])
-        _line(bottom, dts, dxs, style, f"$F_x$ = {fx:g}: " + _speed("$V_2$", fit, "v2"))
+        entries[bottom].append(_line(bottom, dts, dxs, style,
+                                     f"$F_x$ = {fx:g}: " + _speed("$V_2$", fit, "v2")))
     count = len(next(iter(all_reals.values()), []))
     top.set_xlabel(r"$\tau_i - \tau_1$ [$t_0$]")
     top.set_ylabel(r"$x_i(\tau_i) - x_1(\tau_1)$ [$2R$]")
@@ -139,8 +146,10 @@ def wave_figure(all_reals, path=None, fits=None):
     bottom.set_xlabel(rf"$\tau^*_i - \tau^*_{{{last}}}$ [$t_0$]")
     bottom.set_ylabel(rf"$x^*_i - x^*_{{{last}}}$ [$2R$]")
     bottom.set_title("(b) backward wave of sliding (cf. Fig. 5 lower)", fontsize=10)
-    for ax in (top, bottom):
-        ax.legend(fontsize=8, title=r"points: mean over realizations; lines: fits, "
+    from matplotlib.legend_handler import HandlerTuple
+    for ax, rows in entries.items():
+        ax.legend([h for h, _ in rows], [t for _, t in rows],
+                  handler_map={tuple: HandlerTuple(ndivide=1)}, fontsize=8, title=r"points: mean over realizations; lines: fits, "
                   r"speeds in $2R/t_0$", title_fontsize=7)
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     note(fig, UNITS + "; disk i counted from 1 (the pushed disk)")

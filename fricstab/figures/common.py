@@ -46,14 +46,15 @@ def si_scale(values, unit, power=1):
     """Factor and label that bring ``values`` (in ``unit**power``) to 1-1000 of a prefixed unit.
 
     ``si_scale(x_in_m, "m")`` gives ``(1e6, "µm")`` for micrometre values;
-    ``si_scale(d2_in_m2, "m", 2)`` gives ``(1e12, "µm$^2$")``.  No finite
-    non-zero value: factor 1 and the bare unit.
+    ``si_scale(d2_in_m2, "m", 2)`` gives ``(1e12, "µm$^{2}$")``;
+    ``si_scale(rate, "s", -1)`` gives ``(1e-6, "µs$^{-1}$")`` for 1e8 / s.
+    No finite non-zero value: factor 1 and the bare unit.
     """
     v = np.abs(np.asarray(values, dtype=float))
     v = v[np.isfinite(v) & (v > 0)]
-    suffix = "" if power == 1 else f"$^{power}$"
+    suffix = "" if power == 1 else f"$^{{{power}}}$"
     if v.size == 0:
         return 1.0, unit + suffix
-    k = math.floor(math.log10(v.max()) / (3 * power))
+    k = math.floor(math.log10(v.max()) / (3 * abs(power))) * (1 if power > 0 else -1)
     k = min(max(k, min(_PREFIXES)), max(_PREFIXES))
     return 10.0 ** (-3 * k * power), _PREFIXES[k] + unit + suffix

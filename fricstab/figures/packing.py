@@ -4,7 +4,7 @@
 contact forces as lines of width ~ force.  ``rigidity_figure``: G_A, G_NA and
 G (solve, modes, step strain) against kT/kN, and the nonaffine rates of theory
 against step strain (Ishima Fig. 3c).  ``dos_figure``: D(omega) (Fig. 9) and
-psi^T, psi^R against omega (Fig. 8), one marker and line style per run so
+psi^R = 1 - psi^T against omega (Fig. 8), one marker and line style per run so
 that runs with equal spectra (kT/kN = 1e-8 and 1e-4 share their
 translational band) stay visible on top of each other.
 
@@ -37,7 +37,7 @@ def packing_figure(packing, pairs, sep, force, rattler, path=None):
 
     box = packing.box
     radius = packing.diameter / 2
-    fig, ax = plt.subplots(figsize=(7, 7))
+    fig, ax = plt.subplots(figsize=(7, 7.6))
     patches, colours = [], []
     for i, (x, y) in enumerate(packing.pos):
         r = radius[i]
@@ -72,9 +72,17 @@ def packing_figure(packing, pairs, sep, force, rattler, path=None):
     ax.set_xlabel("$x$ [$d$]")
     ax.set_ylabel("$y$ [$d$]")
     ax.set_title(f"N = {packing.n}, phi = {packing.phi:g}, seed = {packing.seed}: "
-                 f"{m} contacts, {int(rattler.sum())} rattlers (grey)\n"
-                 "lines: contact forces, width ~ |f| (Hertz, $k_N$ = 1)")
-    fig.tight_layout()
+                 f"{m} contacts, {int(rattler.sum())} rattlers")
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+    fmax = float(force.max()) if m else 0.0
+    handles = [Patch(fc="#8fb8de", ec="0.3", label="large disk ($d$ = 1)"),
+               Patch(fc="#f4b183", ec="0.3", label="small disk"),
+               Patch(fc="0.75", ec="0.3", label="rattler"),
+               Line2D([], [], color="k", lw=3.3,
+                      label=f"contact force, width $\\propto |f|$: max {fmax:.3g} $k_N d^{{3/2}}$")]
+    fig.legend(handles=handles, loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     return finish(fig, path, dpi=120)
 
 
@@ -88,17 +96,21 @@ def rigidity_figure(results, first, path=None):
     """
     plt = pyplot()
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5))
     pos = [e for e in results if e["kt"] is not None and e["kt"] > 0]
     zero = [e for e in results if e["kt"] is None or e["kt"] == 0]
-    series = (("g_a", "$G_A$", "C0", "o", "-"), ("g_na_solve", "$G_{NA}$", "C1", "s", "-"),
-              ("g", "$G$ (solve)", "C2", "D", "-"), ("g_modes", "$G$ (modes)", "C3", "x", "none"),
-              ("g_step", "$G$ (step strain)", "k", "+", "none"))
-    for key, label, colour, marker, ls in series:
+    # The three estimates of G agree: an open diamond, a smaller x and a larger +
+    # keep each visible on top of the others.
+    series = (("g_a", "$G_A$", "C0", "o", "-", 7), ("g_na_solve", "$G_{NA}$", "C1", "s", "-", 7),
+              ("g", "$G$ (solve)", "C2", "D", "-", 10), ("g_modes", "$G$ (modes)", "C3", "x",
+                                                          "none", 6),
+              ("g_step", "$G$ (step strain)", "k", "+", "none", 13))
+    for key, label, colour, marker, ls, size in series:
         pts = [(e["kt"], e[key]) for e in pos if e[key] is not None]
         if pts:
             x, y = zip(*pts)
-            a.plot(x, y, color=colour, marker=marker, ls=ls, label=label, ms=7)
+            a.plot(x, y, color=colour, marker=marker, ls=ls, label=label, ms=size,
+                   mfc="none" if marker == "D" else colour, mew=1.3)
         for e in zero:
             if e[key] is not None:
                 a.axhline(e[key], color=colour, ls=":", lw=0.8,
@@ -112,7 +124,7 @@ def rigidity_figure(results, first, path=None):
     a.set_ylabel("rigidity [$k_N d^{1/2}$]")
     a.set_title("(a) rigidity" + (" (dotted: " + ", ".join(
         "$k_T = 0$" if e["kt"] == 0 else e["law"] for e in zero) + ")" if zero else ""))
-    a.legend(fontsize=8)
+    a.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     label, u, step = first
     k = u.shape[1]
     names = ("x", "y", "l")
@@ -133,7 +145,7 @@ def rigidity_figure(results, first, path=None):
 
 
 def dos_figure(spectra, edges, path=None):
-    """D(omega) (a) and the binned participation fractions psi^T, psi^R (b).
+    """D(omega) (a) and the binned rotational participation psi^R = 1 - psi^T (b).
 
     ``spectra``: dicts with ``label``, ``k`` (dof per particle), ``omega``
     (modes), ``dos``, ``psi_t_mean``, ``psi_r_mean`` (per bin of ``edges``).
@@ -148,11 +160,10 @@ def dos_figure(spectra, edges, path=None):
         d = np.where(s["dos"] > 0, s["dos"], np.nan)
         a.plot(centres, d, label=s["label"], **kw)
         empty = np.histogram(s["omega"], bins=edges)[0] == 0
-        b.plot(centres, np.where(empty, np.nan, s["psi_t_mean"]),
-               **{**kw, "ls": "-"}, label=f"$\\psi^T$, {s['label']}")
-        if s["k"] == 3:
-            b.plot(centres, np.where(empty, np.nan, s["psi_r_mean"]),
-                   **{**kw, "ls": "--", "mfc": colour}, label=f"$\\psi^R$, {s['label']}")
+        if s["k"] == 3:     # unit eigenvectors: psi^T = 1 - psi^R, one curve says both
+            b.plot(centres, np.where(empty, np.nan, s["psi_r_mean"]), label=s["label"], **kw)
+        else:
+            b.plot([], [], label=f"{s['label']}: no rotations ($\\psi^R = 0$)", **kw)
     a.set_xscale("log")
     a.set_yscale("log")
     a.set_xlabel("$\\omega$ [$t_0^{-1}$]")
@@ -163,9 +174,9 @@ def dos_figure(spectra, edges, path=None):
     b.set_xscale("log")
     b.set_ylim(-0.04, 1.04)
     b.set_xlabel("$\\omega$ [$t_0^{-1}$]")
-    b.set_ylabel("participation fraction per bin [-]")
-    b.set_title("(b) $\\psi^T$ (open, solid), $\\psi^R$ (filled, dashed) (cf. Ishima Fig. 8)")
-    b.legend(fontsize=7, ncol=2)
+    b.set_ylabel("rotational participation $\\psi^R = 1 - \\psi^T$ per bin [-]")
+    b.set_title("(b) mode character (cf. Ishima Fig. 8)")
+    b.legend(fontsize=8)
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     note(fig, UNITS + "; $D(\\omega)$ = modes per bin / (3N bin width), translations dropped")
     return finish(fig, path, dpi=110)

@@ -16,9 +16,10 @@ numbers [-].
 import numpy as np
 from matplotlib.collections import LineCollection, PatchCollection
 from matplotlib.patches import Circle
+from matplotlib.ticker import MaxNLocator
 
 from fricstab.analysis import shear as sa
-from fricstab.figures.common import finish, pyplot, si_scale
+from fricstab.figures.common import finish, note, pyplot, si_scale
 from fricstab.laws import ParameterError
 
 __all__ = ["fig_d2min_map", "fig_differential_network", "fig_force_network",
@@ -36,11 +37,25 @@ def _save(fig, path):
     return finish(fig, path, dpi=120)
 
 
-def _series(ax, x, y, marker, n, **kw):
-    """A per-step series: markers while they can be told apart, else a thin line."""
+def _series(ax, x, y, marker, n, smooth=False, ls="-", width=1.0, size=3, **kw):
+    """A per-step series: markers while they can be told apart, else a thin line.
+
+    With ``smooth`` (a series that flips between few values) and more than
+    :data:`MARKER_LIMIT` steps, the thin line is faint and a running mean over
+    n/50 steps is drawn on top of it.
+    """
     if n <= MARKER_LIMIT:
-        return ax.plot(x, y, marker + "-", ms=3, lw=0.8, **kw)
-    return ax.plot(x, y, "-", lw=0.5, rasterized=True, **kw)
+        return ax.plot(x, y, marker + ls, ms=size, lw=0.8, **kw)
+    if not smooth:
+        return ax.plot(x, y, ls, lw=0.5, rasterized=True, **kw)
+    label = kw.pop("label", None)
+    ax.plot(x, y, "-", lw=0.4, alpha=0.35, rasterized=True, **kw)
+    w = max(n // 50, 2)
+    y = np.asarray(y, float)
+    ok = np.isfinite(y)
+    box = np.ones(w)
+    mean = np.convolve(np.where(ok, y, 0.0), box, "same") / np.convolve(ok, box, "same")
+    return ax.plot(x, mean, ls, lw=width, rasterized=True, label=label, **kw)
 
 
 def _check_step(frames, k):
@@ -51,6 +66,13 @@ def _check_step(frames, k):
 def _length(frames):
     """Factor and prefixed unit of the map's lengths (frames in m)."""
     return si_scale([frames.lx], "m")
+
+
+def _map_figure(frames, k):
+    """A figure shaped like the cell (tall cells get tall figures), room for a colour bar."""
+    y = frames.pos[k][:, 1]
+    ratio = (np.ptp(y) + 4 * frames.radius.max()) / (frames.lx + 2 * frames.radius.max())
+    return plt.subplots(figsize=(5.6, float(np.clip(4.2 * ratio + 0.9, 3.0, 9.0))))
 
 
 def _disks(ax, frames, k, values=None, cmap="viridis", label=None):
@@ -119,10 +141,10 @@ def fig_d2min_map(frames, k, path=None, d2=None, radius_factor=5.0):
                       ~sa.rattler_mask(frames, k - 1))
     d2 = np.asarray(d2, float)
     scale, unit = si_scale(d2, "m", 2)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _map_figure(frames, k)
     _disks(ax, frames, k, d2 * scale, cmap="inferno", label=f"$D^2_{{min}}$ [{unit}]")
     ax.set_title(f"$D^2_{{min}}$ of step {k} (cf. Lee & Hurley Figs. 3-5); "
-                 "outlined: rattlers", fontsize=9)
+                 "outlined: wall disks, rattlers", fontsize=9)
     fig.tight_layout()
     return _save(fig, path)
 
@@ -130,7 +152,7 @@ def fig_d2min_map(frames, k, path=None, d2=None, radius_factor=5.0):
 def fig_force_network(frames, k, path=None):
     """Force network of frame ``k`` (Fig. 6): bonds coloured by |f|."""
     ij, force, *_ = frames.contacts(k)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _map_figure(frames, k)
     _disks(ax, frames, k)
     lc = LineCollection(_bonds(frames, k, ij), cmap="plasma")
     mag = np.hypot(force[:, 0], force[:, 1])
@@ -150,7 +172,7 @@ def fig_differential_network(frames, k, path=None):
     _check_step(frames, k)
     ij, *_ = frames.contacts(k)
     df = sa.differential_forces(frames, k)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _map_figure(frames, k)
     _disks(ax, frames, k)
     scale, unit = si_scale(df, "N/m")
     lim = max(np.abs(df).max() * scale, 1e-300)
@@ -169,12 +191,12 @@ def fig_gr_clusters(frames, k, path=None, radius_factor=5.0, fraction=0.01):
     _check_step(frames, k)
     eps = radius_factor * frames.radius[frames.kind == 0].mean()
     gr = sa.gr_regions(frames, k, eps, fraction)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _map_figure(frames, k)
     pos = _disks(ax, frames, k)
     for lab in np.unique(gr["labels"]):
         p = pos[gr["particles"][gr["labels"] == lab]]
         ax.scatter(p[:, 0], p[:, 1], s=25, color="k" if lab < 0 else f"C{lab % 10}",
-                   label="noise" if lab < 0 else f"cluster {lab}", zorder=3)
+                   label="noise" if lab < 0 else f"cluster {lab + 1}", zorder=3)
     if len(gr["particles"]):
         ax.legend(fontsize=6, loc="upper right")
     ax.set_title(f"GR regions, step {k}: {gr['n_clusters']} cluster(s) "
@@ -188,14 +210,15 @@ def fig_nonaffine(frames, k, path=None):
     _check_step(frames, k)
     keep = ~sa.rattler_mask(frames, k - 1)
     na = sa.nonaffine_displacement(frames.pos[k - 1], frames.pos[k], keep)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = _map_figure(frames, k)
     pos = _disks(ax, frames, k)
     ok = np.isfinite(na[:, 0])
     scale, unit = si_scale(np.hypot(na[ok, 0], na[ok, 1]), "m")
     q = ax.quiver(pos[ok, 0], pos[ok, 1], scale * na[ok, 0], scale * na[ok, 1], color="C3")
     longest = float(np.hypot(na[ok, 0], na[ok, 1]).max() * scale) if ok.any() else 1.0
-    ax.quiverkey(q, 0.8, 1.03, longest, f"{longest:.3g} {unit}", labelpos="E", fontproperties={"size": 8})
-    ax.set_title(f"non-affine displacement, step {k} (cf. Fig. 7)", loc="left", fontsize=9)
+    ax.quiverkey(q, 0.84, 1.03, longest, f"{longest:.3g} {unit}", labelpos="E",
+                 fontproperties={"size": 8})
+    ax.set_title(f"non-affine displacement, step {k} (cf. Fig. 7)", loc="left", fontsize=8)
     fig.tight_layout()
     return _save(fig, path)
 
@@ -225,14 +248,21 @@ def fig_step_panels(result, path=None, window=None):
     axes[1].set_yscale("log")
     axes[1].set_ylabel(f"$D^2_{{min}}$ [{unit}]")
     axes[1].legend(fontsize=7)
-    _series(axes[2], steps, a["n_clusters"][s], "o", n, color="C2")
+    _series(axes[2], steps, a["n_clusters"][s], "o", n, smooth=True, color="C2")
     axes[2].set_ylabel("GR clusters [-]")
-    _series(axes[3], steps, a["angle_mean"][s], "o", n, color="C3", label=r"mean $|\theta|$")
-    _series(axes[3], steps, a["angle_median"][s], "s", n, color="C4",
+    axes[2].yaxis.set_major_locator(MaxNLocator(integer=True))
+    _series(axes[3], steps, a["angle_mean"][s], "o", n, smooth=True, color="C3", width=2.2,
+            size=7, mfc="none", label=r"mean $|\theta|$")
+    _series(axes[3], steps, a["angle_median"][s], "s", n, smooth=True, ls="--", color="C4",
             label=r"median $|\theta|$")
     axes[3].set(ylabel=r"GR contact angle $|\theta|$ [rad]", xlabel="output step $k$ [-]")
     axes[3].legend(fontsize=7)
-    fig.tight_layout()
+    if n > MARKER_LIMIT:
+        fig.tight_layout(rect=(0, 0.025, 1, 1))
+        note(fig, f"GR clusters and angles: faint, per step; bold, running mean over "
+                  f"{max(n // 50, 2)} steps")
+    else:
+        fig.tight_layout()
     return _save(fig, path)
 
 
@@ -278,10 +308,12 @@ def fig_slip_spectra(a, path=None):
     d = np.asarray(a.get("slip_dtau_p", []))
     fig, ax = plt.subplots(1, 2, figsize=(8, 3.4), constrained_layout=True)
     fig.suptitle("Jacobian before each slip", fontsize=10)
-    for axis, key, label in ((ax[0], "slip_n_complex_pairs", "complex pairs [-]"),
-                             (ax[1], "slip_max_growth_rate", r"largest growth rate [s$^{-1}$]")):
+    scale, unit = si_scale(a.get("slip_max_growth_rate", []), "s", -1)
+    for axis, key, label, f in ((ax[0], "slip_n_complex_pairs", "complex pairs [-]", 1.0),
+                                (ax[1], "slip_max_growth_rate",
+                                 f"largest growth rate [{unit}]", scale)):
         if key in a and d.size:
-            axis.scatter(-d, a[key], s=8)
+            axis.scatter(-d, f * np.asarray(a[key], float), s=8)
         axis.set_xscale("log")
         axis.set_xlabel(r"$-\Delta\tau_p$ of the following slip [-]")
         axis.set_ylabel(label)
