@@ -110,7 +110,7 @@ def _speed(name, fit, key):
     if fit is None:
         return name
     v, e = getattr(fit, key), getattr(fit, key + "_err")
-    return f"{name} = {v:.3g} ± {e:.1g}"
+    return f"{name} = {v:.3g} ± {e:.2g}"
 
 
 def wave_figure(all_reals, path=None, fits=None):
