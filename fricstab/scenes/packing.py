@@ -60,16 +60,18 @@ MAX_REFOLDS = 4          # FIRE reruns after folding the final positions into th
 
 @dataclass(frozen=True, eq=False)
 class Packing:
-    """A force-balanced frictionless packing (read-only arrays).
+    """A force-balanced frictionless packing (read-only arrays; Ishima App. A.1).
 
-    Attributes
+    Units: large diameter d = 1, k_N = 1, mass of a large disk m = 1.
+
+    Parameters
     ----------
     pos : ndarray, shape (N, 2)
-        Centres, folded into ``[0, box)``.
+        Centres, folded into ``[0, box)`` (units of d).
     diameter : ndarray, shape (N,)
-        1 for the first ``N/2`` disks, ``1/1.4`` for the others.
+        1 for the first ``N/2`` disks, ``1/1.4`` for the others (units of d).
     box : float
-        Side ``L`` of the square periodic box.
+        Side ``L`` of the square periodic box (units of d).
     phi : float
         Target area fraction, ``sum(pi d^2 / 4) / L^2``.
     seed : int
@@ -77,7 +79,7 @@ class Packing:
     info : dict
         Protocol knobs and costs: ``dphi``, ``f_tol``, ``f_tol_compress``,
         ``phi_start``, ``compression_steps``, ``fire_iterations``, ``max_force``
-        (max |F_i^zeta| at the end), ``seconds``.
+        (``max |F_i|`` at the end, in k_N d^(3/2)), ``seconds``.
     """
 
     pos: np.ndarray
