@@ -227,7 +227,7 @@ def _culprit(system, state, particle):
 
 def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, record_hist=False,
         tol=0.0, check_every=100, forces=None, step0=0, meas=None):
-    """Advance ``state`` in place by velocity Verlet steps ``step0 .. n_steps - 1`` of ``dt``.
+    """Advance ``state`` in place by velocity Verlet steps ``step0`` to ``n_steps - 1`` of ``dt``.
 
     Each step: half kick, drift, the histories advanced by the law's increment
     rule at the new configuration and projected onto their admissible set

@@ -196,7 +196,7 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
         Increment of phi per compression step (Eqs. A1-A2); the last one is
         clipped to land on ``phi``.  The paper uses 1e-4.
     f_tol : float
-        FIRE stops at the target phi when max |F_i^zeta| < f_tol
+        FIRE stops at the target phi when ``max |F_i^zeta| < f_tol``
         (paper: F_Th = 1e-14 k_N d^(3/2)).
     f_tol_compress : float
         The same threshold on the intermediate steps.  Every step has overlaps,
@@ -235,7 +235,7 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
     :func:`fricstab.engine.fire` from ``v = 0``.  The positions are folded
     into the box after each step; folding rounds a coordinate by up to
     ``ulp(L)/2``, so the final state is checked again and relaxed once more
-    if that pushed max |F| to ``f_tol``.
+    if that pushed ``max |F|`` to ``f_tol``.
     """
     t_start = time.perf_counter()
     _check_int("n", n, 4, "an even integer >= 4")
