@@ -216,8 +216,8 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, re
     birth (death) is a conjugate pair present (absent) at a step and absent
     (present) at the one before, pairs matched by optimal assignment; each is
     bisected in F_x to ``tol`` on the sign of :func:`pair_indicator`.  Units:
-    Charan's (force ``k_n (2R)^(3/2)``, eigenvalues in ``t^-2`` of simulation
-    time, module :mod:`fricstab.protocols.dynamics`).
+    the chain's (forces in the unit of F_y, eigenvalues in simulation
+    time^-2; :class:`ChainScene`).
 
     Parameters
     ----------

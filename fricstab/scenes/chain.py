@@ -132,8 +132,9 @@ class ChainScene:
 
     N disks of radius R on the substrate ``y = 0``, periodic in x with period
     2NR, each pressed down by F_y, disk 0 (the paper's disk 1) pushed by F_x.
-    Units are Charan's: 2R = 1, m = 1, k_n = 2000, so forces are in
-    ``k_n (2R)^(3/2)`` and time in ``t_0 = sqrt(m 2R / k_n)``.  Frozen; use
+    Units are Charan's numbers: 2R = 1, m = 1, k_n = 2000, F_y = 0.1, forces
+    in the unit of F_y; the simulation time unit is that of these numbers,
+    Charan's is ``sqrt(m 2R / k_n)`` (:func:`time_unit`).  Frozen; use
     :meth:`with_fx` for another F_x.
 
     Parameters
