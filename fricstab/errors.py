@@ -21,17 +21,40 @@ EXIT_NUMERICAL = 4
 
 
 class ParameterError(ValueError):
-    """Bad user input; the message names the parameter."""
+    """Bad user input; the message names the parameter, the value and what is allowed.
+
+    Raised before any work is done; the command line prints the message on one
+    line (``fricstab: error: ...``) and exits with status 2.  A subclass of
+    :class:`ValueError`.
+    """
 
 
 class ConvergenceError(RuntimeError):
-    """An iterative step of a protocol did not reach its tolerance (exit status 4)."""
+    """An iterative step of a protocol did not reach its tolerance.
+
+    Raised by Newton, FIRE and damped relaxations and by the ramp (a step
+    without equilibrium); the message names the step (e.g. the F_x), the
+    residual and the iterations.  The command line exits with status 4.  A
+    subclass of :class:`RuntimeError`.
+    """
 
     exit_code = EXIT_NUMERICAL
 
 
 class NumericalError(ArithmeticError):
-    """NaN or inf in a computed quantity (exit status 4)."""
+    """NaN or inf in a computed quantity (exit status 4).
+
+    Parameters
+    ----------
+    message : str
+        What became non-finite, and where.
+    step : int, optional
+        The step (Verlet step, Newton iteration, frame) at which it happened.
+    item : int, optional
+        The particle, contact or mode concerned.
+    quantity : str, optional
+        The quantity's name (e.g. ``"force"``, ``"position"``, ``"overlap"``).
+    """
 
     exit_code = EXIT_NUMERICAL
 

@@ -1,5 +1,6 @@
 """Exported trajectories load in OVITO with the same particles, positions, radii
-and number of frames (OVITO is a test-only dependency)."""
+and number of frames (OVITO is the 'ovito' extra; those tests skip, saying why,
+without it)."""
 
 import numpy as np
 import pytest
@@ -8,8 +9,6 @@ from fricstab.io.export import frames_to_ovito, write_extxyz, write_lammps_dump
 from fricstab.laws import ParameterError
 from fricstab.io.frames import synthetic_frames
 
-ovito_io = pytest.importorskip("ovito.io")
-
 
 @pytest.fixture(scope="module")
 def frames():
@@ -17,7 +16,7 @@ def frames():
 
 
 @pytest.mark.parametrize("fmt, suffix", [("extxyz", "xyz"), ("lammps", "dump")])
-def test_frames_round_trip_through_ovito(frames, tmp_path, fmt, suffix):
+def test_frames_round_trip_through_ovito(frames, tmp_path, fmt, suffix, ovito_io):
     path = tmp_path / f"run.{suffix}"
     frames_to_ovito(frames, path, fmt)
     pipeline = ovito_io.import_file(str(path), multiple_frames=True)
@@ -38,7 +37,7 @@ def test_frames_round_trip_through_ovito(frames, tmp_path, fmt, suffix):
         assert np.isclose(data.cell[0, 0], frames.lx) and np.isclose(data.cell[1, 1], frames.height[k])
 
 
-def test_single_frame_and_optional_columns(tmp_path):
+def test_single_frame_and_optional_columns(tmp_path, ovito_io):
     pos = np.array([[0.0, 0.0], [1.5, 0.25], [3.0, -1.0]])
     radius = np.array([0.5, 0.6, 0.7])
     for writer, name in ((write_extxyz, "one.xyz"), (write_lammps_dump, "one.dump")):

@@ -46,8 +46,7 @@ def test_every_slip_gets_its_spectrum(run_dir):
         assert (run_dir / png).stat().st_size > 1000
 
 
-def test_export_loads_in_ovito(run_dir, capsys):
-    ovito_io = pytest.importorskip("ovito.io")
+def test_export_loads_in_ovito(run_dir, capsys, ovito_io):
     assert main(["shear", "export", "--out", str(run_dir), "--every", "100"]) == 0
     assert main(["shear", "export", "--out", str(run_dir)]) == 2      # exists, no --force
     assert "--force" in capsys.readouterr().err

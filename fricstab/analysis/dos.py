@@ -61,7 +61,36 @@ def asymmetry(dense):
 
 
 def spectrum(jac, route="auto", vectors=True):
-    """Eigen-decomposition of ``jac`` (sparse or dense) by ``route``."""
+    """Eigen-decomposition of a packing's Jacobian for the density of states (Ishima Sec. IV B).
+
+    ``lambda_n = (omega_n t0)^2`` of ``J`` (Eq. 21; Ishima's convention
+    ``-dF/dq``, units ``k_N d^(1/2)``, so ``omega t0 = sqrt(lambda)``).
+
+    Parameters
+    ----------
+    jac : ndarray or scipy.sparse matrix
+        ``J`` (:func:`linear_response`).
+    route : {"auto", "dense", "symmetric"}
+        ``"dense"``: ``scipy.linalg.eig`` with left and right vectors (the
+        general route); ``"symmetric"``: ``eigh`` of ``(J + J^T)/2``, exact for
+        the unstrained packing (zero histories: J is the Hessian of the
+        effective potential, App. H); ``"auto"``: symmetric when
+        ``max|J - J^T| <= 1e-12 max|J|``, else dense.
+    vectors : bool
+        Also compute the eigenvectors.
+
+    Returns
+    -------
+    Spectrum
+        ``eigenvalues`` (ascending real parts, ``(omega t0)^2``), unit right
+        eigenvectors (columns) and left ones, the ``route`` taken, ``seconds``,
+        the asymmetry ``max|J - J^T| / max|J|`` and ``max_imag``.
+
+    Raises
+    ------
+    NumericalError
+        A non-finite Jacobian entry, naming its row.
+    """
     from fricstab.errors import check_finite
     dense = jac.toarray() if hasattr(jac, "toarray") else np.asarray(jac)
     check_finite("Jacobian entry", dense, item="row")   # LAPACK would refuse it unnamed

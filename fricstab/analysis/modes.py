@@ -32,7 +32,25 @@ class TransverseMode:
 
 
 def transverse_mode(scene, state):
-    """The eigenmode with the largest y fraction among real eigenvalues."""
+    """The chain's transverse mode: the real eigenmode with the largest y fraction.
+
+    Charan compare the backward sliding wave V2 with the phase speed of this
+    mode (Sec. IV); at F_x = 0 its frequency is 0.235 in their units.
+
+    Parameters
+    ----------
+    scene : ChainScene
+    state : State
+        An equilibrium of the chain.
+
+    Returns
+    -------
+    TransverseMode
+        ``y_fraction`` (``|v_y|^2 / |v|^2`` of the right eigenvector),
+        ``omega`` (``sqrt(-lambda)`` in paper time units ``sqrt(m 2R/k_n)``),
+        ``wavelength`` (units of 2R), ``speed`` (``omega / k``, 2R per paper
+        time unit) and ``vector`` (N, dof).
+    """
     _, jac = forces_and_jacobian(scene, state)
     spec = decompose(jac, mass_vector(scene))
     n, dof = scene.n, scene.dof

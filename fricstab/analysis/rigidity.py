@@ -106,10 +106,38 @@ class LinearResponse(NamedTuple):
 
 
 def linear_response(system, state):
-    """``J``, ``Xi``, ``Theta``, ``G_A`` and forces of a periodic state (module docstring).
+    """The linear response of a periodic state: ``J``, ``Xi``, ``Theta``, ``G_A`` and forces.
 
-    Every particle must be free (a rattler-free backbone); the box is square
-    (``system.lx = system.ly = L``).
+    In Ishima's coordinates ``(x, y, l = d theta / 2)`` whatever the law:
+    ``J = -dF/dq`` (Eq. 18) with the history advanced by the increment rule
+    (Eq. D4), ``Xi`` the affine force rate at frozen history (Eq. 35; complex
+    step through the kernel), ``Theta`` the stress rate (Eq. 45), ``G_A``
+    (Eq. 40).
+
+    Parameters
+    ----------
+    system : System
+        Every particle free (a rattler-free backbone); square box
+        (``system.lx = system.ly = L``).
+    state : State
+
+    Returns
+    -------
+    jac : scipy.sparse.csr_matrix
+        ``J`` (k_N d^(1/2)).
+    xi : ndarray
+        ``Xi`` per dof (k_N d^(3/2) per unit strain).
+    theta : ndarray
+        ``Theta`` per dof.
+    g_a : float
+        ``G_A`` (k_N d^(1/2)).
+    forces : ndarray
+        Generalized forces per dof (k_N d^(3/2)).
+
+    Raises
+    ------
+    ParameterError
+        If a particle is not free.
     """
     if not np.all(system.free):
         raise ParameterError("linear_response: every particle must be free (a backbone)")
@@ -211,10 +239,35 @@ class Rigidity:
 
 
 def rigidity(system, state, modes=False, route="auto"):
-    """G_A and G_NA of a force-balanced periodic state by direct solve (and mode sum).
+    """Shear rigidity ``G = G_A + G_NA`` of a force-balanced periodic state (Ishima Sec. III).
 
-    ``system``, ``state``: a rattler-free backbone under any law
-    (:func:`fricstab.scenes.packing_friction.frictional`).
+    ``G_A`` (Eq. 40) from the affine stress rate; ``G_NA = -Theta . u / L^2``
+    with ``u`` the solution of ``J u = Xi`` (a bordered sparse LU on the
+    complement of the zero modes ``e_x``, ``e_y``), and optionally by the mode
+    sum over biorthonormal left and right eigenvectors (Eq. 44).  ``J~ = J``:
+    the sign flips of Eqs. 36-37 are not supported by the paper's Appendix G
+    (``validation/errata.md``).
+
+    Parameters
+    ----------
+    system : System
+        A rattler-free backbone under any law (:func:`frictional`), square
+        periodic box.
+    state : State
+        Force-balanced.
+    modes : bool
+        Also compute ``G_NA`` by the mode sum (Eq. 44; a dense
+        eigendecomposition).
+    route : {"auto", "dense", "symmetric"}
+        Spectrum route of the mode sum (:func:`dos_spectrum`).
+
+    Returns
+    -------
+    Rigidity
+        ``g_a``, ``g_na_solve``, ``g_na_modes`` (NaN without ``modes``), in
+        ``k_N d^(1/2)`` (Ishima's units), the ``jacobian`` (CSR, Ishima's
+        convention ``-dF/dq`` in ``(x, y, l)``), ``xi``, ``theta``, ``u``,
+        ``checks`` (zero-mode and solve residuals) and ``seconds``.
     """
     k, n, box = system.dof, system.n, system.lx
     t0 = time.perf_counter()

@@ -123,25 +123,26 @@ def neighbour_pairs(pos, lx, radius_cut, include_mask=None):
 
 
 def d2min(pos_ref, pos_cur, lx, radius_cut, include_mask=None):
-    """D2min of every particle between two frames (Eqs. B1-B4).
+    """D2min of every particle between two frames (Lee & Hurley App. B, Eqs. B1-B4).
 
     Parameters
     ----------
-    pos_ref, pos_cur : ndarray (N, 2)
-        Positions at gamma - dgamma (defines neighbourhoods) and gamma;
-        x unwrapped.
+    pos_ref, pos_cur : ndarray, shape (N, 2)
+        Positions at gamma - dgamma (defines neighbourhoods) and gamma; x
+        unwrapped (any length unit; the runs use m).
     lx : float
-        Box length in x.
+        Box length in x (same unit).
     radius_cut : float
-        Neighbourhood radius (the paper uses 5 r_p).
-    include_mask : ndarray (N,) bool, optional
+        Neighbourhood radius (same unit; the paper uses 5 r_p).
+    include_mask : ndarray of bool, shape (N,), optional
         Particles used as centres and as neighbours (non-rattlers).
 
     Returns
     -------
-    ndarray (N,)
-        D2min (B1) with Gamma = X Y^-1 (B2-B4); NaN for excluded particles and
-        for degenerate neighbourhoods (< 2 neighbours or collinear).
+    ndarray, shape (N,)
+        D2min (Eq. B1, length^2) with ``Gamma = X Y^-1`` (Eqs. B2-B4); NaN for
+        excluded particles and for degenerate neighbourhoods (< 2 neighbours
+        or collinear).
     """
     pos_ref = np.asarray(pos_ref, dtype=np.float64)
     pos_cur = np.asarray(pos_cur, dtype=np.float64)
@@ -312,26 +313,45 @@ class ShearAnalysis:
 
 def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr",
             frames_range=None, keep_d2min=False, progress=True):
-    """Run all analyses over the steps of ``frames`` (Secs. 3.2-3.3).
+    """All analyses of a plane-shear run over its output steps (Lee & Hurley Secs. 3.2-3.3).
+
+    Per step: rattlers, D2min (App. B), its maximum and top-10 % mean, GR
+    regions (DBSCAN) and their contact angles, the Spearman correlation of the
+    particle-stress change with D2min (Fig. 8a); per stick or slip phase
+    (Eqs. 1-4) its metrics; and the Spearman tables of Figs. 9-10.
 
     Parameters
     ----------
     frames : Frames
+        The run's frames (SI per unit thickness).
     gamma0 : float
         Start of the analysed window: steps with reference strain >= gamma0
-        (the paper uses 2.2 %).
+        (dimensionless; the paper uses 2.2 %, i.e. 0.022).
     radius_factor : float
-        D2min and DBSCAN radius in units of r_p (paper: 5).
+        D2min and DBSCAN radius in units of the mean radius r_p (paper: 5).
     fraction : float
-        GR fraction of contacts (paper: 1 %).
+        GR fraction of contacts (paper: 1 %, i.e. 0.01).
     ts_rule : {"min_gr", "start"}
-        t_s of Eqs. 3-4 (see the module docstring).
+        t_s of Eqs. 3-4: the step of the phase with the fewest GR clusters, or
+        the whole phase.
     frames_range : (int, int), optional
         Restrict the per-step particle analyses to steps in [start, stop).
     keep_d2min : bool
-        Also return the (T, N) D2min field.
+        Also return the (T, N) D2min field (m^2).
     progress : bool
         tqdm progress bar.
+
+    Returns
+    -------
+    ShearAnalysis
+        ``arrays`` (per step and per phase), ``phases`` (P, 2: first and last
+        step), ``tables`` (Spearman rho, p, n) and ``summary`` (phase counts,
+        largest drop of tau, ...).
+
+    Raises
+    ------
+    ParameterError
+        Fewer than 2 frames, or no bulk particles.
     """
     from tqdm import tqdm
 

@@ -85,21 +85,34 @@ class SlipSpectra:
 
 
 def slip_spectra(frames, phases, dtau_p, params, progress=False):
-    """Spectrum statistics at the stick state before every slip (module docstring).
+    """Spectrum statistics at the stick state before every slip (beyond Lee & Hurley).
+
+    At the frame where tau peaked before every slip: the stiffness
+    ``K = dF/dq`` of the bulk disks (walls clamped) from the verified blocks of
+    the run's law, sliding and rolling contacts on their slide branch, and the
+    spectrum of ``D = -M^-1 K`` (dense, up to 3,000 dof).
 
     Parameters
     ----------
     frames : Frames
         The run's frames (SI).
-    phases : ndarray (P, 2)
+    phases : ndarray, shape (P, 2)
         First and last step of each phase (:func:`find_phases`); step ``a``
         goes from frame ``a - 1`` to ``a``.
-    dtau_p : ndarray (P,)
-        Delta tau_p per phase; slips are the phases with ``dtau_p < 0``.
+    dtau_p : ndarray, shape (P,)
+        Delta tau_p per phase (Eq. 1; dimensionless); slips are the phases with
+        ``dtau_p < 0``.
     params : dict
         The run's validated scene (``law``, ``law_params`` in SI).
     progress : bool
         tqdm bar.
+
+    Returns
+    -------
+    SlipSpectra
+        Per slip: ``frame``, ``dtau_p``, ``n_complex_pairs``,
+        ``max_growth_rate`` (``max |Re sqrt(-lambda)|``, 1/s),
+        ``lowest_real_eigenvalue`` (1/s^2), ``n_sliding``, ``n_rolling``.
     """
     from tqdm import tqdm
 

@@ -43,7 +43,33 @@ class Spectrum:
 
 
 def decompose(jac, mass, vectors=True):
-    """Spectrum of ``diag(mass)^-1 jac`` (eigenvalues sorted by real part)."""
+    """Spectrum of ``M^-1 J`` with biorthonormal left and right eigenvectors.
+
+    Dense ``scipy.linalg.eig`` of ``diag(mass)^-1 jac``.  ``J = dF/dq`` is not
+    symmetric when histories are present (Charan Sec. II), so left and right
+    eigenvectors differ; their overlap gives each eigenvalue's condition number,
+    which diverges at an exceptional point (where a pair is born).
+
+    Parameters
+    ----------
+    jac : ndarray, shape (n, n)
+        The Jacobian ``dF/dq`` (force/length; Charan's sign: a stable mode has
+        a negative eigenvalue).
+    mass : ndarray, shape (n,)
+        The diagonal of the mass matrix in the same dof order (mass, or
+        moment of inertia for a rotation; Charan's scaled ``I/R^2`` where the
+        coordinates are scaled).
+    vectors : bool
+        Also compute the eigenvectors and condition numbers.
+
+    Returns
+    -------
+    Spectrum
+        ``eigenvalues`` (n,) sorted by real part (1/time^2; ``lambda = -omega^2``
+        for a stable mode); ``right`` (unit columns), ``left``
+        (``left[:, k].conj() @ right[:, k] = 1``) and ``condition``
+        ``|l| |r| / |l^H r|``; None without ``vectors``.
+    """
     a = jac / mass[:, None]
     if not vectors:
         w = scipy.linalg.eigvals(a)
@@ -61,19 +87,50 @@ def decompose(jac, mass, vectors=True):
 
 
 def complex_pairs(eigenvalues):
-    """Eigenvalues with Im > 0 (one per conjugate pair), by real part."""
+    """The complex-conjugate pairs of a spectrum, one eigenvalue per pair.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray of complex
+        A spectrum (e.g. of ``M^-1 J``).
+
+    Returns
+    -------
+    ndarray of complex
+        The eigenvalues with ``Im > 0``, sorted by real part.
+    """
     w = eigenvalues[eigenvalues.imag > 0]
     return w[np.argsort(w.real)]
 
 
 def pair_indicator(eigenvalues, center, radius):
-    """``D = (lambda_1 - lambda_2)^2`` of the tracked pair, for bisection.
+    """The pair indicator ``D = (lambda_1 - lambda_2)^2`` of a tracked pair, for bisection.
 
-    If a conjugate pair has its real part within ``radius`` of ``center``, it
-    is the tracked pair: ``D = -4 Im^2 < 0``.  Otherwise the pair is real and
-    ``D`` is the squared gap of the two real eigenvalues nearest ``center``
-    (> 0).  ``radius`` should be less than half the distance to any other
-    conjugate pair.  Returns D and the (updated) centre.
+    A symmetric function of the two eigenvalues, hence smooth through the
+    exceptional point where they meet: ``D = -4 (Im lambda)^2 < 0`` for a
+    conjugate pair, the squared gap ``> 0`` for two real eigenvalues.  The ramp
+    locates a birth or death by its sign change rather than by a threshold on
+    a small, ill-conditioned imaginary part.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray of complex
+        A spectrum of ``M^-1 J`` (1/time^2).
+    center : float
+        Real part where the pair is tracked (1/time^2).
+    radius : float
+        A conjugate pair with its real part within ``radius`` of ``center`` is
+        the tracked pair; ``radius`` should be less than half the distance to
+        any other conjugate pair (:func:`tracking_radius`).
+
+    Returns
+    -------
+    D : float
+        ``-4 Im^2`` of the tracked pair if there is one, else the squared gap of
+        the two real eigenvalues nearest ``center`` (1/time^4); inf with fewer
+        than two real eigenvalues.
+    center : float
+        The updated centre (the pair's real part when found).
     """
     upper = eigenvalues[eigenvalues.imag > 0]
     if upper.size:
@@ -101,5 +158,20 @@ def tracking_radius(eigenvalues, center):
 
 
 def growth_rate(eigenvalues):
-    """Largest ``Im sqrt(-lambda)``: the e-folding rate of the fastest mode."""
+    """The e-folding rate of the fastest-growing mode: the largest ``Im sqrt(-lambda)``.
+
+    For ``M^-1 J`` with ``J = dF/dq`` a mode ``exp(s t)`` has ``s^2 = lambda``;
+    a stable mode (``lambda < 0`` real) oscillates, a positive eigenvalue or a
+    complex pair grows (Charan Sec. II).
+
+    Parameters
+    ----------
+    eigenvalues : ndarray
+        A spectrum of ``M^-1 J`` (1/time^2).
+
+    Returns
+    -------
+    float
+        The largest growth rate (1/time; 0 for a stable spectrum).
+    """
     return float(np.max(np.abs(np.sqrt(-eigenvalues.astype(complex)).imag)))

@@ -221,10 +221,17 @@ def _cmd_laws():
         other = f"wall form {law.wall}" if law.kind == "pair" else f"pair form {law.pair}"
         print(f"{name} ({law.kind}, id {law.law_id}): coords ({', '.join(law.coords)}), "
               f"forces ({', '.join(law.outputs)})")
-        print(f"  kernels: {name}_force({', '.join(law.inputs)}, f); "
-              f"{name}_eval({geo}, p, h, f, jac, want_jac), _rate, _project, _advance")
-        print("  parameters: " + ", ".join(f"{p} [{u}]" for p, u in
-                                          zip(law.params, law.param_units)))
+        print("  kernel arguments:")
+        print(f"    {name}_force({', '.join(law.inputs)}, f)")
+        print(f"    {name}_eval({geo}, p, h, f, jac, want_jac)   forces f and K = dF/dq")
+        print(f"    {name}_rate({geo}, p, a)   increment rule dh = a dq")
+        print(f"    {name}_project({geo}, p, h) -> flags   history onto its admissible set")
+        print(f"    {name}_advance({geo}, p, h, du, f, aux) -> flags   one dynamics step;"
+              f" aux = ({', '.join(law.contact)})")
+        print(f"    p = ({', '.join(law.params)}), h = ({', '.join(law.history) or '-'})")
+        print("  parameters:")
+        for p, u, d in zip(law.params, law.param_units, law.param_docs):
+            print(f"    {p} [{u}]: {d}")
         print(f"  dof {law.n_dof}, history {law.n_hist} ({', '.join(law.history) or '-'}), "
               f"rotation {rot[law.rotation]}, cap {'yes' if law.capped else 'no'}, {other}")
     return 0

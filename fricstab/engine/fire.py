@@ -130,10 +130,32 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
 
 
 def fire(system, state, tol, max_iter, params=FireParameters()):
-    """Relax ``state`` in place until max |F| over the free dof < ``tol``.
+    """Relax ``state`` in place with FIRE until ``max |F|`` over the free dof < ``tol``.
 
-    Returns ``(iterations, residual)``; ``iterations > max_iter`` means not
-    converged (the caller decides whether that is an error).
+    The FIRE minimizer (Bitzek et al. 2006) as Ishima App. A.1 uses it, with the
+    histories projected at every iterate.
+
+    Parameters
+    ----------
+    system : System
+    state : State
+        Relaxed in place; velocities are reset to zero first.
+    tol : float
+        Force threshold (force units of the scene; Ishima's ``F_Th = 1e-14
+        k_N d^(3/2)``).
+    max_iter : int
+        Iteration cap.
+    params : FireParameters
+        Time-step and mixing parameters (``dt_ini``, ``dt_max``, ``f_inc``,
+        ``f_dec``, ``f_alpha``, ``alpha_start``, ``n_min``).
+
+    Returns
+    -------
+    iterations : int
+        Iterations done; ``iterations > max_iter`` means not converged (the
+        caller decides whether that is an error).
+    residual : float
+        ``max |F|`` over the free dof at the end (force).
     """
     n = system.n
     system.project(state)

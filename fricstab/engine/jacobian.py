@@ -53,9 +53,29 @@ def assemble(contacts, blocks, family, dof, free_only=True):
 
 
 def jacobian(system, state, free_only=True):
-    """Generalized forces of the free dof (flat) and ``K = dF/dq`` (CSR).
+    """Generalized forces and the sparse Jacobian ``K = dF/dq`` with history.
 
-    ``free_only=False``: every particle's dof (see :func:`assemble`).
+    Assembled from the verified per-contact blocks of the law: the history is
+    advanced by the increment rule (Charan Eq. 2, Ishima Eq. D4) and the
+    derivative through the Coulomb threshold is included.  Charan's sign
+    (Ishima's Jacobian, Eq. 18, is ``-K``).
+
+    Parameters
+    ----------
+    system : System
+    state : State
+    free_only : bool
+        True: the rows and columns of the free particles' dof only (fixed and
+        driven particles clamped); False: every particle's dof.
+
+    Returns
+    -------
+    f : ndarray, shape (n_dof,)
+        Generalized forces of those dof, particle by particle (force; torque or
+        T/R for the rotation coordinate).
+    K : scipy.sparse.csr_matrix, shape (n_dof, n_dof)
+        ``K[a, b] = d f[a] / d q[b]`` (force/length; dof order x, y, rotation
+        per particle).
     """
     f, blocks = system.forces(state, want_blocks=True)
     k = assemble(state.contacts, blocks, system.family, system.dof, free_only)

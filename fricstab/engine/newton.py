@@ -115,13 +115,46 @@ def _solve(system, k, f, solver):
 
 
 def newton(system, state, tol, max_iter=60, solver="auto", max_step=None, raise_on_failure=True):
-    """Relax ``state`` in place to max |F| over the free dof below ``tol``.
+    """Relax ``state`` in place to ``max |F|`` over the free dof below ``tol``, by Newton's method.
 
-    ``max_step`` caps the largest coordinate change of one iteration (so that
-    an iterate cannot jump past contacts); None: no cap.  Raises
-    :class:`ConvergenceError` (or returns ``converged=False`` with
-    ``raise_on_failure=False``) when ``max_iter`` iterations do not suffice or
-    a step is not finite.
+    Each iteration solves ``K dq = -F`` with the engine's Jacobian
+    ``K = dF/dq`` (:func:`jacobian`), advances every history by the increment
+    rule ``h += A(q) dq`` at the current configuration and projects it at the
+    new one (Charan Eq. 2, Ishima Eq. D4), so the history is carried along
+    the iterates.
+
+    Parameters
+    ----------
+    system : System
+    state : State
+        Relaxed in place.
+    tol : float
+        Force threshold (force units of the scene).
+    max_iter : int
+        Iteration cap.
+    solver : {"auto", "lstsq", "bordered", "lsmr"}
+        Linear solver: ``"lstsq"`` dense least squares (a zero mode, e.g. a
+        free-rolling disk, is not moved); ``"bordered"`` sparse LU with the
+        uniform translations removed (a periodic packing, Ishima App. C);
+        ``"lsmr"`` sparse least squares; ``"auto"``: lstsq up to 1,500 dof, else
+        bordered when periodic in x and y, else lsmr.
+    max_step : float, optional
+        Cap on the largest coordinate change of one iteration (length), so that
+        an iterate cannot jump past contacts; None: no cap.
+    raise_on_failure : bool
+        Raise :class:`ConvergenceError` (True) or return ``converged=False``.
+
+    Returns
+    -------
+    NewtonResult
+        ``residual`` (force), ``iterations``, ``converged``, ``seconds`` and the
+        contacts gained and lost.
+
+    Raises
+    ------
+    ConvergenceError
+        When ``max_iter`` iterations do not suffice or a step is not finite
+        (with ``raise_on_failure``).
     """
     t0 = time.perf_counter()
     system.project(state)

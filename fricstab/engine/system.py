@@ -43,10 +43,21 @@ FREE, FIXED, DRIVEN = 0, 1, 2
 class Material:
     """A pair law with its parameter values (and those of its wall form).
 
-    ``params`` maps the law's parameter names (``fricstab laws``) to values;
-    the wall form's extra parameters (e.g. ``Rw`` of ``lee_hurley``) go in
-    ``wall_params``.  Checked on construction: an unknown law, a missing or a
-    bad parameter is a :class:`ParameterError` naming it.
+    Checked on construction: an unknown law, a missing or a bad parameter is a
+    :class:`ParameterError` naming it.
+
+    Parameters
+    ----------
+    law : str
+        A pair law (:data:`PAIR_LAW_NAMES`); its wall form serves the walls.
+    params : dict
+        The law's parameters by name (``fricstab laws`` lists them with their
+        units: ``kn``, ``kt`` in force/length^(3/2) and ``mu`` for ``charan``,
+        Charan Eqs. 1, 5; ``kn``, ``kt`` for ``ishima``, Ishima Eqs. 7-9;
+        ``E`` (pressure), ``nu``, ``mus``, ``mur`` for ``lee_hurley``, Lee &
+        Hurley App. A), in the scene's units.
+    wall_params : dict, optional
+        The wall form's extra parameters (``Rw`` of ``lee_hurley_wall``, length).
     """
 
     law: str
@@ -110,7 +121,37 @@ class Material:
 
 @dataclass
 class State:
-    """Coordinates, velocities, Lees-Edwards offset and contacts of a system."""
+    """Coordinates, velocities, Lees-Edwards offset and contacts of a system.
+
+    Build one with :meth:`System.state`; protocols copy it (:meth:`copy`)
+    rather than modify a caller's state unless they say so.
+
+    Parameters
+    ----------
+    q : ndarray, shape (N, 3)
+        Generalized coordinates: x, y (length; never folded into the box, so a
+        contact keeps its key across rebuilds) and the law's rotation
+        coordinate (theta in radians, or Ishima's ``l = R theta``, length).
+    v : ndarray, shape (N, 3)
+        Generalized velocities (length/time, and rad/time or length/time).
+    shift : float
+        Lees-Edwards offset of the periodic images in x (length).
+    contacts : Contacts
+        The contacts ``(i, j, m, k)`` with their histories (the tangential
+        displacement ``t``, Charan Eq. 2; Ishima's ``xi_T``; Lee & Hurley's
+        ``ft``, ``mr``) and cap flags; a wall contact has ``j = -1 - w``.
+    keys : ndarray of int64
+        Sorted contact keys: forces are summed in an order that depends on the
+        contact set only.
+    ref : ndarray, shape (N, 2)
+        Positions at the last neighbour-list build.
+    ref_shift : float
+        Lees-Edwards offset at the last build.
+    time : float
+        Simulated time (time units of the scene).
+    rebuilds : int
+        Neighbour-list rebuilds so far.
+    """
 
     q: np.ndarray
     v: np.ndarray
@@ -155,29 +196,40 @@ def _array(name, value, shape, dtype=float):
 
 @dataclass
 class System:
-    """What stays fixed during a run (module docstring).
+    """What stays fixed during a run: particles, box, walls, law, applied forces, dashpots.
+
+    Units are the scene's (any consistent set).  Generalized coordinates are
+    ``q`` (N, 3): x, y and the law's rotation coordinate, theta (generalized
+    force the torque T) or Ishima's ``l = R theta`` (force T/R, Ishima Eq. 7);
+    a frictionless law has 2 dof per particle.  :meth:`state` builds a
+    :class:`State` from positions; :meth:`forces` evaluates the generalized
+    forces (and the per-contact blocks ``K = dF/dq``).
 
     Parameters
     ----------
     material : Material
-    radius, mass, inertia : array_like (N,)
-    family : array_like of int (N,), optional
+        The pair law and its parameters (its wall form at the walls).
+    radius, mass, inertia : array_like, shape (N,)
+        Radii (length), masses (mass) and moments of inertia (mass length^2).
+    family : array_like of int, shape (N,), optional
         0 free (default), 1 fixed, 2 driven.
     lx, ly : float
-        Periods (0: open direction).
+        Periods in x and y (length; 0: an open direction).
     walls : sequence of (y0, direction)
         Analytic walls ``y = y0``; direction +1 a floor, -1 a ceiling.
-    static : array_like (S, 4), optional
-        Pairs ``(i, j, m, k)`` always listed (``i < j``).
+    static : array_like, shape (S, 4), optional
+        Pairs ``(i, j, m, k)`` always listed (``i < j``; ``m``, ``k`` the
+        periodic image of j: ``r_j + m (lx, 0) + k (shift, ly)``).
     neighbours : bool
         Whether a neighbour list finds pairs (False: only static pairs and walls).
     skin : float
         Neighbour-list skin (length).
-    external : array_like (N, 3), optional
-        Applied generalized forces (the chain's F_x and F_y).
+    external : array_like, shape (N, 3), optional
+        Applied generalized forces (force; the chain's F_x and F_y).
     damping : (alpha_n, alpha_t, eta_r)
-        Contact dashpot ratios (Lee & Hurley A4, A12, A20); 0 is none.
-    damping_mass, damping_inertia : array_like (N,), optional
+        Contact dashpot ratios (Lee & Hurley Eqs. A4, A12, A20; dimensionless);
+        0 is none.
+    damping_mass, damping_inertia : array_like, shape (N,), optional
         Masses and inertias in the dashpots (default: own; a fixed particle inf).
     """
 

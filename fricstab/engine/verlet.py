@@ -50,15 +50,21 @@ CHUNK = 1 << 21
 class Controls:
     """Controllers of a run (all off by default).
 
+    Parameters
+    ----------
     drag : float
-        Global viscous drag rate ``nu`` on free particles (1/time).
+        Global viscous drag rate ``nu`` on free particles (1/time): the force
+        ``-m nu v`` of Charan's damped protocol.
     drive : (float, float)
-        Velocity ``(V_x, V_y)`` of the driven particles (family 2).
+        Velocity ``(V_x, V_y)`` of the driven particles (family 2; length/time).
     servo : (gain, target, vmax) or None
-        Replaces ``V_y`` by ``-gain (target - N)`` clipped to ``vmax``.
+        Replaces ``V_y`` by ``-gain (target - N)`` clipped to ``vmax``: a
+        velocity servo on the normal force N on the driven body (Lee & Hurley
+        Sec. 2; gain in length/(time force), target in force, vmax in
+        length/time).
     affine_y : float or None
         With a driven body: the free particles' y follow its vertical motion
-        affinely about this reference height.
+        affinely about this reference height (length).
     shear_rate : float
         Growth rate of the Lees-Edwards offset (length/time).
     """
@@ -221,30 +227,51 @@ def _culprit(system, state, particle):
 
 def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, record_hist=False,
         tol=0.0, check_every=100, forces=None, step0=0, meas=None):
-    """Advance ``state`` in place by velocity Verlet steps ``step0 .. n_steps - 1`` of ``dt``.
+    """Advance ``state`` in place by velocity Verlet steps ``step0`` to ``n_steps - 1`` of ``dt``.
+
+    Each step: half kick, drift, the histories advanced by the law's increment
+    rule at the new configuration and projected onto their admissible set
+    (Coulomb circle, caps), forces with the dashpots, half kick; the controllers
+    of ``controls`` act on the driven particles.
 
     Parameters
     ----------
-    system, state : System, State
+    system : System
+    state : State
+        Modified in place.
     dt : float
-        Time step.
+        Time step (time units of the scene).
     n_steps : int
         Index of the step to stop before (with ``step0``, a resumed run).
     controls : Controls
+        Drag, drive, servo, affine motion, shear rate.
     record_every : int
         Record ``q``, ``v`` (and the histories if ``record_hist``; only for a
         contact list that never changes, e.g. the chain's) before every that
-        many steps.
+        many steps; 0: no record.
+    record_hist : bool
+        Also record the histories.
     tol : float
-        Stop early when max |F| over the free dof falls below it (checked every
-        ``check_every`` steps); 0: never.
-    forces : ndarray (N, 3), optional
+        Stop early when ``max |F|`` over the free dof falls below it (force;
+        checked every ``check_every`` steps); 0: never.
+    check_every : int
+        Steps between checks of ``tol`` (and of interrupts).
+    forces : ndarray, shape (N, 3), optional
         The forces of ``state`` (computed from its projected histories if
         omitted; a resumed run passes the forces it saved, which include the
         dashpots of the last step).
-    meas : ndarray (8,), optional
+    step0 : int
+        Index of the first step (a resumed run).
+    meas : ndarray, shape (8,), optional
         Controller measurements carried between calls (driven-body force,
         driven displacement); created if omitted and returned in the Run.
+
+    Returns
+    -------
+    Run
+        ``steps`` done, ``converged`` (``tol`` reached), ``residual``, the
+        recorded ``times``, ``q``, ``v``, ``hist``, the measured force on the
+        driven body and the forces of the last step.
 
     Raises
     ------

@@ -45,13 +45,37 @@ _ROTATION = {
 
 
 def write_state_jacobian(out_dir, system, state, units=None, extra=None, extra_arrays=None):
-    """Write ``state.npz``, ``jacobian.npz``, ``dofs.json`` and ``mass.npy`` (module doc).
+    """Write a state and its Jacobian: ``state.npz``, ``jacobian.npz``, ``dofs.json``, ``mass.npy``.
 
-    ``units`` maps ``length``, ``mass``, ``time``, ``force`` to the scene's
-    unit names (written into ``dofs.json``); ``extra`` adds keys to
-    ``dofs.json``, ``extra_arrays`` arrays to ``state.npz`` (a scene's own
-    keys, e.g. the chain's legacy ``q`` and ``t``; they may not replace the
-    common ones).  Returns the forces of the free dof and the Jacobian.
+    The files of ``fricstab SCENE jacobian``:
+    ``state.npz`` holds everything :func:`system_from_state` needs to rebuild
+    the System and State; ``jacobian.npz`` is ``K = dF/dq`` over the free dof
+    (``scipy.sparse.save_npz``, histories advanced by the increment rule);
+    ``dofs.json`` names each row and column (particle, coordinate), the sign
+    convention and the units; ``mass.npy`` is the diagonal of the mass matrix
+    in that order.  Files are written atomically.
+
+    Parameters
+    ----------
+    out_dir : path-like
+        Existing directory.
+    system : System
+    state : State
+    units : dict, optional
+        Maps ``length``, ``mass``, ``time``, ``force`` to the scene's unit names
+        (written into ``dofs.json``).
+    extra : dict, optional
+        Keys added to ``dofs.json``.
+    extra_arrays : dict, optional
+        Arrays added to ``state.npz`` (a scene's own keys, e.g. the chain's
+        legacy ``q`` and ``t``; they may not replace the common ones).
+
+    Returns
+    -------
+    f : ndarray
+        Generalized forces of the free dof.
+    K : scipy.sparse.csr_matrix
+        The Jacobian written.
     """
     from pathlib import Path
     out = Path(out_dir)
@@ -131,11 +155,21 @@ def read_state(path):
 
 
 def system_from_state(path):
-    """The System and State written in ``state.npz``: recompute anything from the file alone.
+    """The System and State written in a ``state.npz``: recompute anything from the file alone.
 
     The contacts (with their images and histories) are those of the file, in
-    its order, so ``fricstab.engine.jacobian(*system_from_state(p))`` gives the
-    saved ``jacobian.npz`` to the bit.
+    its order, so ``fricstab.jacobian(*system_from_state(p))`` gives the saved
+    ``jacobian.npz`` to the bit.
+
+    Parameters
+    ----------
+    path : path-like
+        A ``state.npz`` written by :func:`write_state_jacobian`.
+
+    Returns
+    -------
+    system : System
+    state : State
     """
     from fricstab.engine import Material, System
     from fricstab.engine.contacts import Contacts, contact_keys

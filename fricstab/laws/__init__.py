@@ -108,11 +108,30 @@ def law_id(name):
 
 
 def get_law(name):
-    """The :class:`LawInfo` of law ``name``; ParameterError if unknown.
+    """The :class:`LawInfo` of a contact law: its metadata and numba kernels.
 
-    ``name`` is one of :data:`ALL_LAW_NAMES`: the family :data:`LAW_NAMES`
-    (verified by :mod:`fricstab.laws.verify`) or :data:`CAPPED_LAW_NAMES`
-    (verified by :mod:`fricstab.laws.verify_lee_hurley`).
+    Parameters
+    ----------
+    name : str
+        One of :data:`ALL_LAW_NAMES`: the family :data:`LAW_NAMES` (``hertz``,
+        ``charan``, ``ishima`` and their wall forms, verified by
+        :mod:`fricstab.laws.verify`) or :data:`CAPPED_LAW_NAMES` (``lee_hurley``
+        and its wall form, verified by :mod:`fricstab.laws.verify_lee_hurley`).
+
+    Returns
+    -------
+    LawInfo
+        Parameter names in kernel order with their units (``params``,
+        ``param_units``, ``param_docs``: each names the paper's equation),
+        coordinates and generalized forces, history, cap, wall or pair form, and
+        the kernels ``force``, ``force_jacobian``, ``increment``, ``eval``,
+        ``rate``, ``project``, ``advance`` (plain numba functions, unchecked;
+        their arguments are listed by ``fricstab laws``).
+
+    Raises
+    ------
+    ParameterError
+        If ``name`` is not a known law.
     """
     if name not in ALL_LAW_NAMES:
         raise ParameterError(f"unknown law {name!r}; known laws: {', '.join(ALL_LAW_NAMES)}")
@@ -162,11 +181,39 @@ def check_parameters(**values):
 def evaluate(name, **inputs):
     """Forces and Jacobian block of one contact, with the inputs checked.
 
-    ``inputs`` are the law's kernel arguments by name (``fricstab laws`` and
-    ``get_law(name).inputs`` list them), e.g. for ``charan``:
-    ``dx, dy, Ri, Rj, kn, kt, mu, tx, ty``.  Returns ``(f, jac)`` as float64
-    arrays; raises :class:`ParameterError` naming a missing, unknown or bad
-    argument (radii, stiffnesses and mu must be > 0, everything finite).
+    The law's scalar kernels (``force_jacobian``) evaluated once: the Hertz
+    normal force ``kn delta^(3/2)`` (Charan Eq. 1, Ishima Eq. 7), the tangential
+    force of the law (Charan Eq. 5, Ishima Eqs. 8-9, Lee & Hurley Eqs. A1-A23)
+    and the block ``K = dF/dq`` with the history advanced by the increment rule
+    (Charan Eq. 2, Ishima Eq. D4).  Units are those of the inputs (any
+    consistent set; the scenes use Charan's, Ishima's or SI per unit thickness).
+
+    Parameters
+    ----------
+    name : str
+        The law (:data:`ALL_LAW_NAMES`).
+    **inputs : float
+        The law's kernel arguments by name (``fricstab laws`` and
+        ``get_law(name).inputs`` list them), e.g. for ``charan``: ``dx, dy``
+        (``r_i - r_j``, length), ``Ri, Rj`` (radii, length), ``kn, kt``
+        (force/length^(3/2)), ``mu`` (-), ``tx, ty`` (tangential history, length).
+        A wall law takes ``y`` (the disk's height above the wall) and ``R``.
+
+    Returns
+    -------
+    f : ndarray, shape (n_out,)
+        Generalized forces, e.g. ``(Fx_i, Fy_i, T_i, Fx_j, Fy_j, T_j)`` for a
+        pair law with rotations (Ishima's law: ``F^l = 2T/d`` in place of ``T``).
+    jac : ndarray, shape (n_out, n_coords)
+        ``jac[a, b] = d f[a] / d q[b]``, ``q = (x_i, y_i, theta_i, x_j, y_j,
+        theta_j)`` (Ishima's law: ``l = d theta/2``); Charan's sign
+        (Ishima's Jacobian of Eq. 18 is ``-jac``).
+
+    Raises
+    ------
+    ParameterError
+        Naming a missing, unknown or bad argument (radii, stiffnesses and
+        ``mu`` must be > 0, everything finite).
     """
     import numpy as np
 

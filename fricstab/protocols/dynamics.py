@@ -90,10 +90,33 @@ def _rename(exc, step0, checkpoint_path=None):
 
 
 def relax_damped(scene, state, nu=0.01, dt=None, tol=1e-12, max_steps=50_000_000):
-    """The damped protocol: Verlet with drag ``nu`` from rest until max |F|, |T| < ``tol``.
+    """Charan's damped protocol: Verlet with drag ``nu`` from rest until ``max |F|, |T| < tol``.
 
-    ``dt`` defaults to 0.05 / omega_wall (:func:`default_dt`), the stiffest
-    normal mode of the scene at rest.  ``state`` is not modified.
+    ``m r'' = F - m nu r'`` and ``I theta'' = T - I nu theta'`` (Charan SM), the
+    history updated every step.  It settles only on equilibria whose growth rate
+    is below ``nu/2``, so the pairs a damped ramp sees depend on ``nu``
+    (``validation/chain_protocols.md``).
+
+    Parameters
+    ----------
+    scene : ChainScene
+    state : State
+        Starting state (not modified; velocities start at zero).
+    nu : float
+        Drag rate (1/time, simulation units; Charan: 0.01 per paper time unit).
+    dt : float, optional
+        Verlet step (simulation units); default ``0.05 / omega_wall``
+        (:func:`default_dt`), omega_wall the stiffest normal mode at rest.
+    tol : float
+        Force threshold (Charan's force units).
+    max_steps : int
+        Step cap.
+
+    Returns
+    -------
+    VerletResult
+        ``state`` (relaxed copy), ``velocity``, ``residual``, ``steps``,
+        ``converged``, ``seconds``.
     """
     if dt is None:
         dt = default_dt(scene, 0.05)
@@ -118,16 +141,21 @@ def _physical(system, frames):
 
 def run_dynamics(scene, state, velocity=None, dt=None, duration=100.0, frames=2000, nu=0.0,
                  checkpointer=None, checkpoint_every=None, resume=None, progress=None):
-    """Newtonian dynamics (``nu = 0``) for ``duration``, recording about ``frames`` frames.
+    """Newtonian dynamics of the chain (``nu = 0``) for ``duration``, recording about ``frames`` frames.
+
+    Velocity Verlet with the history advanced every step (module docstring;
+    Charan Sec. III, Figs. 3-7).  Time is in simulation units, ``sqrt(m/k)``
+    with m = 1 and the stiffness unit of the scene; Charan's unit is
+    ``sqrt(m 2R/k_n)`` (:func:`fricstab.scenes.chain.time_unit`).
 
     Parameters
     ----------
     scene : ChainScene
         The scene (with its F_x).
-    state : engine State
+    state : State
         The starting state (not modified); its histories are projected at
         its configuration before the first step.
-    velocity : ndarray (N, 3), optional
+    velocity : ndarray, shape (N, 3), optional
         Initial generalized velocities (default zero).
     dt : float, optional
         Verlet step in simulation units (default ``0.02 / omega_wall``,
@@ -136,12 +164,24 @@ def run_dynamics(scene, state, velocity=None, dt=None, duration=100.0, frames=20
         Simulated time in simulation units.
     frames : int
         Frames are recorded every ``max(1, steps // frames)`` steps.
+    nu : float
+        Drag rate (1/time; Charan's damped protocol uses 0.01); 0 is Newtonian.
     checkpointer : fricstab.io.checkpoint.Checkpointer, optional
         Where the state is saved every ``checkpoint_every`` steps.
+    checkpoint_every : int, optional
+        Steps between checkpoints.
     resume : dict, optional
         A checkpoint (:meth:`Checkpointer.latest`) to continue from.
     progress : tqdm, optional
         Advanced by the number of steps done after each chunk.
+
+    Returns
+    -------
+    VerletResult
+        The final ``state`` and ``velocity``, ``residual``, ``steps``,
+        ``seconds``, and the recorded ``times`` (simulation units),
+        ``positions`` (frames, N, 3: x, y, theta), ``wall_hist`` and
+        ``velocities``.
 
     Raises
     ------

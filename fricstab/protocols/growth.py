@@ -34,13 +34,38 @@ class GrowthCheck:
 
 
 def measure_growth(scene, state, amplitude=1e-9, e_folds=12.0, dt=None):
-    """Perturb ``state`` (an equilibrium) along the most unstable mode and fit.
+    """Growth rate of the most unstable mode in Newtonian dynamics, against the Jacobian's.
 
-    The perturbation is ``amplitude`` (times the rest wall overlap) along the
-    real part of the right eigenvector (generalized coordinates); the run
-    lasts ``e_folds`` predicted e-foldings, so the amplitude stays below
-    ``amplitude * e^e_folds`` (linear regime for the default 1e-9 * 1.6e5).
-    The fit uses the second half.
+    ``state`` (an equilibrium) is perturbed along the real part of the right
+    eigenvector of the mode with the largest ``Re sqrt(lambda)`` of ``M^-1 J``;
+    the run lasts ``e_folds`` predicted e-foldings, so the amplitude stays below
+    ``amplitude * e^e_folds`` (linear regime for the default 1e-9 * 1.6e5); the
+    modal amplitude (projection on the left eigenvector) is fitted over the
+    second half.
+
+    Parameters
+    ----------
+    scene : ChainScene
+        The scene (with its F_x).
+    state : State
+        An equilibrium with an unstable mode.
+    amplitude : float
+        Perturbation, in units of the rest wall overlap.
+    e_folds : float
+        Duration in predicted e-foldings.
+    dt : float, optional
+        Verlet step (simulation units; default :func:`run_dynamics`'s).
+
+    Returns
+    -------
+    GrowthCheck
+        ``predicted`` and ``measured`` rates (1/time, simulation units),
+        the ``eigenvalue`` and the ``fit_window`` (times).
+
+    Raises
+    ------
+    ValueError
+        If the state has no unstable mode.
     """
     _, jac = forces_and_jacobian(scene, state)
     spec = decompose(jac, mass_vector(scene))

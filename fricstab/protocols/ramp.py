@@ -50,11 +50,31 @@ class NewtonResult:
 
 
 def relax_newton(scene, state, tol=1e-12, max_iter=60, max_step=None):
-    """Relax a copy of ``state`` to max |F| over the free dof below ``tol`` (module doc).
+    """Relax a copy of a chain state to equilibrium by Newton's method (history carried).
 
-    ``max_step`` caps the largest coordinate change of one iteration
-    (default ``0.1 delta_w + 1e-3 |F_x| / kn``, ``delta_w`` the rest overlap of
-    the wall, ``kn`` the reference stiffness).
+    :func:`fricstab.newton` with dense least squares (a free-rolling disk, a zero
+    mode without stiffness, is not moved) and each iteration's largest
+    coordinate change capped, so that an iterate cannot jump past contacts.
+
+    Parameters
+    ----------
+    scene : ChainScene
+    state : State
+        Starting state (not modified).
+    tol : float
+        Threshold on ``max |F|, |T|`` over the free dof (Charan's force units).
+    max_iter : int
+        Iteration cap.
+    max_step : float, optional
+        Cap on one iteration's largest coordinate change (length); default
+        ``0.1 delta_w + 1e-3 |F_x| / kn``, ``delta_w`` the rest overlap of the
+        wall, ``kn`` the reference stiffness.
+
+    Returns
+    -------
+    NewtonResult
+        ``state`` (the relaxed copy), ``residual``, ``iterations``,
+        ``converged``, ``seconds``.
     """
     if max_step is None:
         max_step = 0.1 * rest_overlap(scene) + 1e-3 * abs(scene.fx) / reference_stiffness(scene)
@@ -65,9 +85,25 @@ def relax_newton(scene, state, tol=1e-12, max_iter=60, max_step=None):
 
 
 def ramped_equilibrium(scene, fx, step=1e-3):
-    """Newton ramp from F_x = 0 to ``fx`` in steps <= ``step`` (history carried).
+    """The chain's equilibrium at ``fx`` reached by a Newton ramp from F_x = 0 (history carried).
 
-    Raises :class:`ConvergenceError` naming the F_x of a step without equilibrium.
+    Parameters
+    ----------
+    scene : ChainScene
+    fx : float
+        Target F_x (force, Charan's units).
+    step : float
+        Largest ramp step (force); the ramp takes ``ceil(|fx| / step)`` equal steps.
+
+    Returns
+    -------
+    State
+        The equilibrium at ``fx``.
+
+    Raises
+    ------
+    ConvergenceError
+        Naming the F_x of a step without equilibrium.
     """
     state = _equilibrium(scene, initial_state(scene.with_fx(0.0)), 0.0)[0]
     n_steps = max(1, int(np.ceil(abs(fx) / step)))
@@ -172,13 +208,52 @@ def _match(prev, cur, scale):
 
 def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, relax=_newton,
              locate=True):
-    """Ramp F_x from 0 to ``fx_max`` in ``step`` increments; locate every event.
+    """Quasistatic F_x ramp of the chain; every birth and death of a complex pair located.
 
-    ``relax(scene, state)`` returns an object with ``state``, ``residual`` and
-    ``converged`` (default: :func:`relax_newton`; :func:`fricstab.protocols.dynamics.relax_damped`
-    gives the paper's damped protocol).  With ``locate=False`` events are
-    reported at the step resolution only (``fx_lo``, ``fx_hi`` the step ends,
-    ``located`` False).
+    F_x rises from 0 to ``fx_max`` in steps of ``step``; each step is relaxed from
+    the previous equilibrium, the history carried (Charan Eq. 2), and the
+    spectrum of ``M^-1 J`` recorded with condition numbers (Charan Fig. 2).  A
+    birth (death) is a conjugate pair present (absent) at a step and absent
+    (present) at the one before, pairs matched by optimal assignment; each is
+    bisected in F_x to ``tol`` on the sign of :func:`pair_indicator`.  Units:
+    the chain's (forces in the unit of F_y, eigenvalues in simulation
+    time^-2; :class:`ChainScene`).
+
+    Parameters
+    ----------
+    scene : ChainScene
+    fx_max : float
+        End of the ramp (force).
+    step : float
+        Ramp step in F_x (force); an event pair closer than a step is not
+        located (two sign changes cancel), so smaller is safer and slower.
+    tol : float
+        Width of the final bracket of each event in F_x (force).
+    progress : callable or tqdm, optional
+        Progress reporting over the steps.
+    keep_states : bool
+        Keep the equilibrium of every step in ``states``.
+    relax : callable
+        ``relax(scene, state)`` returning an object with ``state``,
+        ``residual`` and ``converged``: :func:`relax_newton` (default) or
+        :func:`relax_damped` (the paper's damped protocol).
+    locate : bool
+        False: events at the step resolution only (``fx_lo``, ``fx_hi`` the
+        step ends, ``located`` False).
+
+    Returns
+    -------
+    RampResult
+        ``fx`` (steps,), ``eigenvalues`` (steps, 3N) complex sorted by real
+        part, ``condition`` (steps, 3N), ``residual``, ``growth`` (largest
+        ``Im sqrt(-lambda)`` per step), ``events`` (list of :class:`Event`:
+        ``kind``, ``fx``, ``fx_lo``, ``fx_hi``, ``pair_center``, ``radius``,
+        ``bisections``, ``located``), ``states``, ``seconds``.
+
+    Raises
+    ------
+    ConvergenceError
+        A step without equilibrium, naming its F_x.
     """
     t0 = time.perf_counter()
     mass = mass_vector(scene)

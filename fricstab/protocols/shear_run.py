@@ -55,11 +55,20 @@ STEP, FRAME, DT, SPF, H0, GDOT, V, GAIN = range(8)
 
 
 class ShearRun:
-    """A run of the cell: system, state, last forces, controller measurements, counters.
+    """A run of Lee & Hurley's plane-shear cell: system, state, last forces, controllers, counters.
 
-    ``ShearRun(cell)`` starts from the placed cell; :func:`prepare` compresses
-    it, :meth:`start_shear` sets V and the frame interval, :meth:`advance`
-    runs steps.
+    ``ShearRun(cell)`` starts from the placed cell;
+    :func:`fricstab.protocols.shear_run.prepare` compresses it under the servo,
+    :meth:`start_shear` sets V (from I and kappa), the servo on N and the frame
+    interval, :meth:`advance` runs steps and :meth:`frame` returns the current
+    frame in SI per unit thickness.  The loop runs in reduced units (length:
+    the mean radius; pressure: E*).  :meth:`arrays` and :meth:`load_arrays`
+    checkpoint and continue a run bit-identically.
+
+    Parameters
+    ----------
+    cell : Cell
+        The placed cell (:func:`make_cell`).
     """
 
     def __init__(self, cell):

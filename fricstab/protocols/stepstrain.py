@@ -69,10 +69,32 @@ def relax(system, state, f_tol=1e-14, max_iter=50):
 
 
 def strain(system, state, dgamma, f_tol=1e-14, max_iter=50):
-    """A copy of ``state`` after an affine step ``dgamma`` at frozen history, relaxed.
+    """A copy of a periodic state after an affine step strain at frozen history, relaxed.
 
-    Returns ``(strained, result)``; ``result`` is the
-    :class:`~fricstab.engine.NewtonResult` of the relaxation.
+    The affine step ``x += dgamma y`` with the Lees-Edwards offset grown by
+    ``dgamma L_y`` (Ishima Eqs. 10-11), then Newton relaxation with the
+    verified Jacobian, the history carried and contacts recomputed at every
+    iterate.
+
+    Parameters
+    ----------
+    system : System
+        A periodic system (square box).
+    state : State
+        The reference state (not modified).
+    dgamma : float
+        Shear strain step (dimensionless).
+    f_tol : float
+        Force threshold of the relaxation (the scene's force units).
+    max_iter : int
+        Newton iteration cap.
+
+    Returns
+    -------
+    strained : State
+        The relaxed strained state.
+    result : NewtonResult
+        The relaxation's residual, iterations and convergence.
     """
     s = state.copy()
     s.q[:, 0] += dgamma * s.q[:, 1]
@@ -97,10 +119,38 @@ class StepStrain:
 
 
 def step_strain(system, state, dgamma=1e-6, f_tol=1e-14):
-    """Rigidity ``g`` of a periodic state by step strain ``dgamma`` (and ``-dgamma``, ``+-2 dgamma``).
+    """Shear rigidity ``g`` of a periodic state by step strain (Ishima Eqs. 10-16).
 
-    ``state`` is the reference; it is relaxed first (on a copy) if its
-    residual is not below ``f_tol``.
+    Affine steps ``+-dgamma`` and ``+-2 dgamma`` with the Lees-Edwards offset at
+    frozen history, each relaxed by Newton with the history carried
+    (:func:`strain`); ``g = (sigma(dgamma) - sigma(0)) / dgamma`` (Eq. 16).
+    The error model: truncation ``|g(+dgamma) - g(-dgamma)|`` plus round-off
+    ``2 eps_sigma / dgamma``.
+
+    Parameters
+    ----------
+    system : System
+        A periodic backbone under a law (:func:`frictional`).
+    state : State
+        The reference state; relaxed first (on a copy) if its residual is not
+        below ``f_tol``.
+    dgamma : float
+        Strain step, in (0, 0.1].
+    f_tol : float
+        Force threshold of the relaxations (k_N d^(3/2)).
+
+    Returns
+    -------
+    StepStrain
+        ``g`` (k_N d^(1/2), Ishima's units), ``g_backward``, ``g_double``,
+        ``error`` (estimate of ``|g - G|``), ``sigma0``, ``nonaffine`` (N, dof)
+        displacement per unit strain, ``iterations``, ``contacts_changed``,
+        ``seconds``.
+
+    Raises
+    ------
+    ParameterError
+        ``dgamma`` out of range.
     """
     if not (np.isfinite(dgamma) and 0 < dgamma <= 0.1):
         raise ParameterError(f"dgamma must be in (0, 0.1], got {dgamma!r}")

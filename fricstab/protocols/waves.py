@@ -60,12 +60,40 @@ class WaveFit:
 
 def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
                     slide_threshold=0.02, frames=20000, dt=None):
-    """One seeded run from ``equilibrium`` (scene carries F_x); see module doc.
+    """One seeded run of the chain from an equilibrium: breach and sliding times per disk.
 
-    ``dt`` is the Verlet step in simulation units (default
-    :func:`fricstab.protocols.dynamics.run_dynamics`'s 0.02 / omega_wall).
-    The perturbation is ``amplitude`` times the rest wall overlap, Gaussian
-    in every generalized coordinate of the law.
+    The equilibrium is perturbed (Gaussian, ``amplitude`` times the rest wall
+    overlap in every generalized coordinate) and run undamped; the forward wave
+    of Coulomb breaching and the backward wave of sliding are read from it
+    (Charan Fig. 5, Eq. 9; definitions in the module docstring).  Paper units:
+    length 2R, time ``sqrt(m 2R / k_n)``.
+
+    Parameters
+    ----------
+    scene : ChainScene
+        The scene, carrying F_x.
+    equilibrium : State
+        The equilibrium at that F_x (:func:`ramped_equilibrium`).
+    seed : int
+        Seed of the perturbation.
+    duration : float
+        Run length (paper time units).
+    amplitude : float
+        Perturbation, in units of the rest wall overlap.
+    slide_threshold : float
+        A disk slides once its x moved by more than this (units of 2R).
+    frames : int
+        Recorded frames.
+    dt : float, optional
+        Verlet step in simulation units (default :func:`run_dynamics`'s
+        ``0.02 / omega_wall``).
+
+    Returns
+    -------
+    Realization
+        ``seed``, per disk the breach time ``tau`` and position ``x_tau``, the
+        sliding time ``tau_slide`` and position ``x_slide`` (paper units), and
+        the centre-of-mass velocity ``v_com`` (2R per time unit).
     """
     start = perturbed(scene, equilibrium, amplitude, np.random.default_rng(seed))
     res = run_dynamics(scene, start, dt=dt, duration=duration * time_unit(scene),

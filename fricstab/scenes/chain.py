@@ -128,12 +128,44 @@ def refusal(law, values):
 
 @dataclass(frozen=True)
 class ChainScene:
-    """Parameters of the chain (defaults: Charan et al.).
+    """Charan's chain of disks on a flat substrate: the scene's parameters.
 
-    ``inertia`` defaults to m R^2 / 2 (a uniform disk; the paper does not
-    state it).  ``params`` are the pair law's parameters and ``wall_params``
-    its wall form's extra ones (``Rw`` of ``lee_hurley``); missing ones take
-    :data:`LAW_DEFAULTS`.
+    N disks of radius R on the substrate ``y = 0``, periodic in x with period
+    2NR, each pressed down by F_y, disk 0 (the paper's disk 1) pushed by F_x.
+    Units are Charan's numbers: 2R = 1, m = 1, k_n = 2000, F_y = 0.1, forces
+    in the unit of F_y; the simulation time unit is that of these numbers,
+    Charan's is ``sqrt(m 2R / k_n)`` (:func:`time_unit`).  Frozen; use
+    :meth:`with_fx` for another F_x.
+
+    Parameters
+    ----------
+    n : int
+        Number of disks (>= 2; paper: 10).
+    radius : float
+        Disk radius R (length; 0.5, so 2R = 1).
+    mass : float
+        Disk mass m (1).
+    fy : float
+        Normal load on every disk (force; paper: 0.1).
+    fx : float
+        Tangential force on disk 0 (force).
+    inertia : float, optional
+        Moment of inertia (mass length^2); default ``m R^2 / 2``, a uniform disk
+        (the paper does not state it).
+    law : str
+        Pair law (:data:`PAIR_LAW_NAMES`; the paper's ``charan``, Eqs. 1, 2, 5),
+        with its wall form at the substrate.
+    params : dict, optional
+        The pair law's parameters (``fricstab laws``); missing ones take
+        :data:`LAW_DEFAULTS` (``charan``: kn = 2000, kt = 2 kn/7, mu = 10).
+    wall_params : dict, optional
+        The wall form's extra parameters (``Rw`` of ``lee_hurley``).
+
+    Raises
+    ------
+    ParameterError
+        A value out of range, a parameter the law does not take, or a
+        combination without equilibrium (a frictionless chain under F_x > 0).
     """
 
     n: int = 10

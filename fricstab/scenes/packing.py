@@ -60,16 +60,18 @@ MAX_REFOLDS = 4          # FIRE reruns after folding the final positions into th
 
 @dataclass(frozen=True, eq=False)
 class Packing:
-    """A force-balanced frictionless packing (read-only arrays).
+    """A force-balanced frictionless packing (read-only arrays; Ishima App. A.1).
 
-    Attributes
+    Units: large diameter d = 1, k_N = 1, mass of a large disk m = 1.
+
+    Parameters
     ----------
     pos : ndarray, shape (N, 2)
-        Centres, folded into ``[0, box)``.
+        Centres, folded into ``[0, box)`` (units of d).
     diameter : ndarray, shape (N,)
-        1 for the first ``N/2`` disks, ``1/1.4`` for the others.
+        1 for the first ``N/2`` disks, ``1/1.4`` for the others (units of d).
     box : float
-        Side ``L`` of the square periodic box.
+        Side ``L`` of the square periodic box (units of d).
     phi : float
         Target area fraction, ``sum(pi d^2 / 4) / L^2``.
     seed : int
@@ -77,7 +79,7 @@ class Packing:
     info : dict
         Protocol knobs and costs: ``dphi``, ``f_tol``, ``f_tol_compress``,
         ``phi_start``, ``compression_steps``, ``fire_iterations``, ``max_force``
-        (max |F_i^zeta| at the end), ``seconds``.
+        (``max |F_i|`` at the end, in k_N d^(3/2)), ``seconds``.
     """
 
     pos: np.ndarray
@@ -194,7 +196,7 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
         Increment of phi per compression step (Eqs. A1-A2); the last one is
         clipped to land on ``phi``.  The paper uses 1e-4.
     f_tol : float
-        FIRE stops at the target phi when max |F_i^zeta| < f_tol
+        FIRE stops at the target phi when ``max |F_i^zeta| < f_tol``
         (paper: F_Th = 1e-14 k_N d^(3/2)).
     f_tol_compress : float
         The same threshold on the intermediate steps.  Every step has overlaps,
@@ -233,7 +235,7 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
     :func:`fricstab.engine.fire` from ``v = 0``.  The positions are folded
     into the box after each step; folding rounds a coordinate by up to
     ``ulp(L)/2``, so the final state is checked again and relaxed once more
-    if that pushed max |F| to ``f_tol``.
+    if that pushed ``max |F|`` to ``f_tol``.
     """
     t_start = time.perf_counter()
     _check_int("n", n, 4, "an even integer >= 4")

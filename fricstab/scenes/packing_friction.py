@@ -86,11 +86,29 @@ LAWS = LawChoice(
 
 
 def material(law="ishima", **params):
-    """The :class:`~fricstab.engine.Material` of ``law`` with the packing's defaults.
+    """The :class:`~fricstab.engine.Material` of a law with the packing's defaults.
 
-    ``params`` override the defaults of :data:`LAWS` (names as ``fricstab
-    laws`` prints them); a parameter the law does not take is a
-    :class:`ParameterError`.
+    Defaults are in Ishima's units (k_N = 1, d = 1): ``ishima`` (the paper's
+    law, Eqs. 7-9) kn = 1, kt = kT/kN = 1; ``charan`` the same with mu = 0.5;
+    ``hertz`` kn = 1 (frictionless); ``lee_hurley`` with the Hertz stiffness of
+    two large disks at the median overlap (:data:`LAWS` states each reason).
+
+    Parameters
+    ----------
+    law : str
+        A pair law (:data:`PAIR_LAW_NAMES`).
+    **params : float
+        Parameters overriding the defaults (names as ``fricstab laws`` prints
+        them; ``kn``, ``kt`` in k_N units).
+
+    Returns
+    -------
+    Material
+
+    Raises
+    ------
+    ParameterError
+        A parameter the law does not take, or a bad value.
     """
     if law not in LAWS.defaults:
         raise ParameterError(f"unknown law {law!r}; a packing takes {', '.join(LAWS.defaults)}")
@@ -158,13 +176,31 @@ class Backbone:
 
 
 def backbone(packing, z_th=2, f_tol=1e-14):
-    """Remove rattlers (and their contacts) from ``packing``.
+    """Remove rattlers (and their contacts) from a packing (Ishima App. E.1).
 
-    A removed contact that carried force (a rattler held between two
-    diametrically opposite neighbours) leaves the backbone out of balance; it
-    is then relaxed frictionlessly (Newton, bordered solver) to
-    ``max |F| < f_tol``, so that theory and simulation start from the same
-    force-balanced state.
+    Particles with at most ``z_th`` contacts are removed, iteratively, since a
+    removal may create new rattlers.  A removed contact that carried force (a
+    rattler held between two diametrically opposite neighbours) leaves the
+    backbone out of balance; it is then relaxed frictionlessly (Newton, bordered
+    solver) so that theory and simulation start from the same force-balanced
+    state.
+
+    Parameters
+    ----------
+    packing : Packing
+        A force-balanced frictionless packing (:func:`make_packing`).
+    z_th : int
+        Rattler threshold: particles with ``Z <= z_th`` contacts are removed
+        (paper: 2).
+    f_tol : float
+        Force threshold of the relaxation after the removal (k_N d^(3/2)).
+
+    Returns
+    -------
+    Backbone
+        ``pos``, ``radius``, ``box`` (units of d), ``keep`` (indices kept),
+        ``n_total`` (particles of the packing, rattlers included: the N of
+        the DOS normalization, Eq. 23) and ``rattler_force``.
     """
     radius = packing.diameter / 2
     pairs, sep = find_contacts(packing.pos, radius, packing.box)
@@ -189,7 +225,23 @@ def backbone(packing, z_th=2, f_tol=1e-14):
 
 
 def packing_system(bb, mat, skin=SKIN):
-    """The periodic System of backbone (or packing) ``bb`` with material ``mat``."""
+    """The periodic :class:`~fricstab.engine.System` of a backbone (or packing) under a law.
+
+    Parameters
+    ----------
+    bb : Backbone or Packing
+        Positions, radii and box (Ishima's units: d = 1).
+    mat : Material
+        The law and its parameters (:func:`material`).
+    skin : float
+        Neighbour-list skin (units of d).
+
+    Returns
+    -------
+    System
+        Periodic in x and y (side ``bb.box``), masses ``~ d^2`` (a large disk
+        m = 1), inertias ``m d^2 / 8``, every particle free.
+    """
     radius = np.asarray(bb.radius, float)
     mass = (2 * radius) ** 2
     return System(mat, radius, mass, mass * (2 * radius) ** 2 / 8, lx=bb.box, ly=bb.box,
@@ -218,14 +270,31 @@ class Frictional:
 
 
 def frictional(bb, mat, f_tol=1e-14, max_iter=60):
-    """Switch friction on (App. A.2) on backbone ``bb`` with law ``mat``, force-balanced.
+    """Switch friction on (Ishima App. A.2) on a backbone with a law, force-balanced.
 
-    Every history starts at zero and ``theta_i = 0``.  If max |F| is then not
-    below ``f_tol`` (a law whose normal force is not Hertz's, or ``kn``
+    Every history starts at zero and ``theta_i = 0``.  If ``max |F|`` is then
+    not below ``f_tol`` (a law whose normal force is not Hertz's, or ``kn``
     scaling the Hertz residual above the threshold), the positions are first
     relaxed under the law's normal forces at zero history
-    (:func:`relax_normal`), so that friction is switched on at a
-    force-balanced state, as in the paper.
+    (:func:`relax_normal`), so that friction is switched on at a force-balanced
+    state, as in the paper.
+
+    Parameters
+    ----------
+    bb : Backbone
+        The rattler-free packing (:func:`backbone`).
+    mat : Material
+        The law and its parameters (:func:`material`).
+    f_tol : float
+        Force threshold (k_N d^(3/2); paper: 1e-14).
+    max_iter : int
+        Iteration cap of the relaxation.
+
+    Returns
+    -------
+    Frictional
+        ``system`` and ``state`` (force-balanced, zero histories) and how it got
+        there (``switch_residual``, ``normal_iterations``, ``fire_iterations``).
 
     Raises
     ------

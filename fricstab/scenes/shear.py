@@ -336,12 +336,37 @@ def _place(rng, rb, lx, x_bot, r_bot, y0, h_loose, prep_phi):
 
 
 def make_cell(params):
-    """Random non-overlapping placement (seeded) of the validated ``params``; a :class:`Cell`.
+    """Lee & Hurley's plane-shear cell, placed at random (seeded): a :class:`Cell`.
 
-    ``params`` is validated (and completed with defaults) here.  The bulk
-    disks are placed one by one (random sequential addition, largest first)
-    at area fraction ``prep_phi`` between the walls; ``lx`` is chosen so that
-    the cell at area fraction 0.82 has lx / h = ``aspect``.
+    A fixed bottom row of disks, a rigid driven top row and polydisperse bulk
+    disks between them, periodic in x (Lee & Hurley Sec. 2).  The bulk disks
+    are placed one by one (random sequential addition, largest first) at area
+    fraction ``prep_phi`` between the walls; ``lx`` is chosen so that the cell
+    at area fraction 0.82 has ``lx / h = aspect``.
+
+    Parameters
+    ----------
+    params : dict
+        Scene keys (``fricstab scene show shear`` lists each with its unit,
+        default and range; SI per unit thickness): e.g. ``n`` (bulk disks),
+        ``r_min``, ``r_max`` (m), ``modulus`` (E*, Pa), ``inertial_number``,
+        ``kappa`` (E*/P, which sets the normal force), ``strain``, ``dgamma``,
+        ``seed``, ``law`` and the law's
+        parameters (``lee_hurley``: ``E`` in Pa, ``nu``, ``mus``, ``mur``,
+        Lee & Hurley App. A).  Validated and completed with the defaults (the
+        quick preset) here.
+
+    Returns
+    -------
+    Cell
+        The placed cell in reduced units (length: the mean radius; pressure:
+        E*), with ``units`` converting to SI, ``kind`` (0 bulk, 1 bottom row,
+        2 top row), radii, masses, inertias, ``lx`` and the target normal force.
+
+    Raises
+    ------
+    ParameterError
+        An unknown key or a value out of range, naming it.
     """
     p = params if "law_params" in params else validate("shear", params)
     if p["r_max"] < p["r_min"]:
