@@ -5,7 +5,7 @@ For each of the 12 cells, ``fricstab SCENE jacobian --law LAW --out DIR``
 common files; the Jacobian recomputed from ``state.npz`` alone
 (:func:`fricstab.io.jacobian_export.system_from_state`) equals ``jacobian.npz``
 to the bit.  The system-level proof of each cell is in
-``tests/test_{chain,packing,shear}_proof.py``; the README's matrix names both.
+``tests/test_{chain,packing,shear}_proof.py``; docs/reference/law_scene_matrix.md names both.
 """
 
 import json

@@ -63,7 +63,7 @@ def test_coarse_ramp_claims_only_verified_brackets():
     """At a coarse step every event reported as located is truly bracketed.
 
     (Two events inside one step can cancel and go unseen: the ramp step is a
-    knob of the speed/accuracy trade, see README.)
+    knob of the speed/accuracy trade, see docs/concepts/knobs.md.)
     """
     scene = ChainScene()
     coarse = run_ramp(scene, 0.1, 5e-3, tol=1e-6, keep_states=True)

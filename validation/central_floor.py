@@ -51,7 +51,7 @@ def main(argv=None):
         "",
         f"Written by `python validation/central_floor.py --cases {ns.cases} --seed {ns.seed}`.",
         "Per regime: number of cases, the largest float64 central-difference error",
-        "at the best step (row-relative, see README), the largest predicted floor",
+        "at the best step (row-relative, see docs/reference/verification.md), the largest predicted floor",
         "(`fricstab.laws.verify.central_error_model`), the largest ratio measured/floor,",
         "and the largest errors against the exact references of the same cases",
         "(complex step, 50-digit central differences).  The bound is 1e-6; a case",

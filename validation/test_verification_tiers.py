@@ -3,7 +3,7 @@
 Quick tier (CI): 150 configurations per law of the (kn, kt, [mu], t) family
 (hertz, hertz_wall, charan, charan_wall, ishima, ishima_wall), 100 per form
 of the capped law (lee_hurley, lee_hurley_wall).  Slow tier
-(``pytest -m slow``): 2,000 per law, the acceptance run of the README.
+(``pytest -m slow``): 2,000 per law, the acceptance run of docs/reference/verification.md.
 Bounds and why:
 
 * complex step and 50-digit central differences: 1e-12 wherever the row is

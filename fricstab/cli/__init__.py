@@ -128,7 +128,7 @@ def _parser():
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     sub.add_parser("laws", help="list the contact laws")
-    v = sub.add_parser("verify", help="prove the generated Jacobians (see README)")
+    v = sub.add_parser("verify", help="prove the generated Jacobians (see docs/reference/verification.md)")
     v.add_argument("--law", type=_law_list, default=list(ALL_LAWS),
                    help="law name, comma-separated names, or 'all' (default: all)")
     v.add_argument("--cases", type=_int_at_least(1, 1_000_000, " (about 1,000 cases per "

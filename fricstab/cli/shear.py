@@ -72,7 +72,7 @@ TRADES = {
     "dgamma": "output interval: finer resolves short phases, costs disk and analysis time",
     "inertial_number": "steps per strain ~ 1/I; I << 1e-3 keeps the shear quasi-static",
     "kappa": "steps per strain ~ sqrt(kappa); larger is stiffer, closer to rigid grains",
-    "dt_frac": "steps ~ 1/dt_frac; 0.3 already breaks the servo (README table)",
+    "dt_frac": "steps ~ 1/dt_frac; 0.3 already breaks the servo (docs/reference/shear.md)",
     "skin": "larger: fewer list rebuilds, more pairs per step",
     "servo_gain": "larger: N held tighter, until the servo oscillates",
     "prep_tol": "looser: shorter preparation, less settled start",

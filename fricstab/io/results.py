@@ -376,14 +376,14 @@ def _check_out_path(path):
 
 def add_run_options(parser, *, seed=True, checkpoints=False, scene=True, seed_default=0,
                     checkpoint_unit="steps"):
-    """The options every protocol shares (see README, "Command line and scene files")."""
+    """The options every protocol shares (see docs/howto/scene_files.md)."""
     from pathlib import Path as _P
     if scene:
         parser.add_argument("--scene", type=_P, default=None, metavar="FILE.toml",
                             help="TOML scene file (see `fricstab scene show NAME`); "
                                  "command-line options override its keys")
     parser.add_argument("--out", type=_P, required=True, metavar="DIR",
-                        help="output directory (created; see README 'Result layout')")
+                        help="output directory (created; see docs/howto/result_layout.md)")
     parser.add_argument("--force", action="store_true",
                         help="overwrite a result that already exists in --out")
     if seed:

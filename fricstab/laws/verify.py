@@ -307,7 +307,7 @@ def verify_case(law, args, direction):
 def verify_law(name, cases, seed, progress=None, radius=0.5, kn=1.0):
     """Run the proof for one law over ``cases`` configurations.
 
-    Returns the JSON-ready summary (see README, "Verification report").
+    Returns the JSON-ready summary (see docs/reference/verification.md).
     """
     law = get_law(name)
     rng = np.random.default_rng([seed, 1])
