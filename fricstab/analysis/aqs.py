@@ -1,8 +1,10 @@
 """Stress drops of an AQS path and whether complex-pair births precede them (issue 17).
 
 Drops.  Step ``k`` (from strain ``gamma_{k-1}`` to ``gamma_k``) is a *drop*
-when ``sigma_k - sigma_{k-1} < -threshold``; its strain is the onset
-``gamma_{k-1}``, the last equilibrium of the branch.  ``threshold`` is an
+when ``sigma_k - sigma_{k-1} < -threshold``; consecutive drop steps are one
+drop (an avalanche that the steps cut), its size their summed decrease and its
+strain the onset ``gamma_{k-1}`` of the first, the last equilibrium of the
+branch.  ``threshold`` is an
 absolute stress (``k_N d^(-1/2)``; default :data:`DROP_THRESHOLD`), so a drop
 does not depend on ``dgamma`` through it; on an elastic branch ``Delta sigma =
 G dgamma > 0`` and the round-off of sigma (``4 eps sum |f^x y| / L^2``, about
@@ -31,19 +33,28 @@ DROP_THRESHOLD = 1e-5   # k_N d^(-1/2): about G dgamma for G ~ 0.03 at dgamma = 
 
 @dataclass(frozen=True)
 class Drop:
-    step: int          # the step that drops: from step - 1 to step
+    step: int          # the first step that drops: from step - 1 to step
     gamma: float       # onset strain gamma_{step - 1}
-    size: float        # sigma_{step - 1} - sigma_step > threshold
+    size: float        # summed decrease over the consecutive drop steps
+    steps: int = 1     # consecutive drop steps
 
     def record(self):
-        return {"step": self.step, "gamma": self.gamma, "size": self.size}
+        return {"step": self.step, "gamma": self.gamma, "size": self.size,
+                "steps": self.steps}
 
 
 def detect_drops(strain, stress, threshold=DROP_THRESHOLD):
     """The drops of a path (module doc)."""
     ds = np.diff(np.asarray(stress, float))
-    steps = np.flatnonzero(ds < -threshold) + 1
-    return [Drop(int(k), float(strain[k - 1]), float(-ds[k - 1])) for k in steps]
+    out = []
+    for k in np.flatnonzero(ds < -threshold) + 1:
+        if out and out[-1].step + out[-1].steps == k:
+            last = out.pop()
+            out.append(Drop(last.step, last.gamma, last.size - float(ds[k - 1]),
+                            last.steps + 1))
+        else:
+            out.append(Drop(int(k), float(strain[k - 1]), float(-ds[k - 1])))
+    return out
 
 
 def preceded(gammas, births, window):
