@@ -130,3 +130,12 @@ def test_resume_is_bit_identical(charan64):
     cont = aqs_protocol.run_aqs(system, state, 2e-3, 2.5e-4, resume=arrays)
     assert np.array_equal(cont.stress, full.stress)
     assert [e.row() for e in cont.events] == [e.row() for e in full.events]
+
+
+def test_cli_non_convergence_exit_4_names_the_step(run_dir, tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(aqs_protocol, "MAX_STEP", 1e-12)
+    monkeypatch.setattr(aqs_protocol, "FIRE_MAX_ITER", 5)
+    args = [a for a in ARGS if a not in ("--n", "64")]
+    assert main(args + ["--packing", str(run_dir), "--out", str(tmp_path / "o")]) == 4
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "strain step 1 " in err[0], err

@@ -56,7 +56,7 @@ WINDOW_STEPS = (1, 4)
 def one_run(bb, law, params, strain, dgamma):
     fr = frictional(bb, material(law, **params))
     t0 = time.perf_counter()
-    res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False)
+    res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False, on_failure="stop")
     drops = detect_drops(res.strain, res.stress)
     births = [e.gamma for e in res.events if e.kind == "birth"]
     onset = [d.step - 1 for d in drops]
@@ -66,7 +66,8 @@ def one_run(bb, law, params, strain, dgamma):
             "growth_at_onset": [float(res.growth[k]) for k in onset],
             "states_with_pairs": int(np.sum(res.n_pairs > 0)), "states": len(res.strain),
             "fire_steps": int(res.fire.sum()), "strain": res.strain, "stress": res.stress,
-            "n_pairs": res.n_pairs, "seconds": time.perf_counter() - t0}
+            "n_pairs": res.n_pairs, "failure": res.failure,
+            "seconds": time.perf_counter() - t0}
 
 
 def law_row(label, runs, dgamma):
@@ -146,7 +147,7 @@ def study(sizes, seeds, laws, strain, dgamma, log=print, cache=None):
                 r.update(n=n, seed=seed)
                 runs[label].append(r)
                 log(f"  {label}: {len(r['drops'])} drops, {len(r['births'])} births, "
-                    f"{r['seconds']:.1f} s")
+                    f"{r['seconds']:.1f} s" + (f" (stopped: {r['failure']})" if r.get("failure") else ""))
     rows = [law_row(label, runs[label], dgamma) for label, _, _ in laws]
     return rows, runs, packings
 

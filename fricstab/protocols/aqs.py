@@ -101,8 +101,16 @@ def _unstable(eigenvalues):
 
 
 def _newton(system, state, f_tol, max_iter=60):
-    with singular_guard("Newton relaxation"):
-        return newton(system, state, f_tol, max_iter=max_iter, solver="bordered",
+    """Newton, bordered solver; a singular one (a disk lost its contacts) by least squares."""
+    backup = state.copy()
+    try:
+        with singular_guard("Newton relaxation"):
+            return newton(system, state, f_tol, max_iter=max_iter, solver="bordered",
+                          max_step=MAX_STEP, raise_on_failure=False)
+    except ConvergenceError:
+        state.__dict__.update(backup.copy().__dict__)
+        solver = "lstsq" if system.dof * system.n <= 3000 else "lsmr"
+        return newton(system, state, f_tol, max_iter=max_iter, solver=solver,
                       max_step=MAX_STEP, raise_on_failure=False)
 
 
@@ -173,6 +181,7 @@ class AQSResult:
     fire: np.ndarray          # bool: the step needed FIRE
     events: list = field(default_factory=list)
     seconds: float = 0.0
+    failure: str = None       # on_failure="stop": why the path ended early
 
 
 def _indicator(system, prev, dgamma, f_tol, center, radius, where):
@@ -211,13 +220,16 @@ def locate(system, prev, gamma_prev, gamma_lo, gamma_hi, center, radius, tol, f_
 
 
 def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_events=True,
-            progress=None, resume=None, checkpoint=None, checkpoint_every=0, on_birth=None):
+            progress=None, resume=None, checkpoint=None, checkpoint_every=0, on_birth=None,
+            on_failure="raise"):
     """Shear ``state`` (an equilibrium, relaxed here first) to ``strain`` in steps ``dgamma``.
 
     ``resume``: the arrays of a checkpoint (:meth:`AQSResult` fields, ``state_*``
     and ``step``); ``checkpoint(step, arrays)`` is called every
     ``checkpoint_every`` steps; ``on_birth(k, event, state_lo, state_hi)``
-    for every located birth (``k`` counts births from 0).
+    for every located birth (``k`` counts births from 0).  ``on_failure="stop"``:
+    a step without equilibrium ends the path there (``failure`` says why)
+    instead of raising.
     """
     check_strain(strain, dgamma)
     if not (np.isfinite(tol) and tol > 0):
@@ -245,6 +257,7 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
         first = int(resume["step"]) + 1
         w = spectrum(system, s)[0]
     births = sum(e.kind == "birth" for e in events)
+    failure = None
 
     def record(state_k, w_k, fire_k):
         cols["stress"].append(shear_stress(system, state_k)[0])
@@ -260,11 +273,17 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
     for k in range(first, n_steps + 1):
         signals.check(f" at strain step {k}")
         where = f"at strain step {k} (strain {grid[k]:.9g})"
-        new, used_fire = relax_step(system, s, dgamma, f_tol, where)
-        w_new = spectrum(system, new)[0]
-        if not used_fire and _unstable(w_new):
-            new, used_fire = relax_step(system, s, dgamma, f_tol, where, use_fire=True)
+        try:
+            new, used_fire = relax_step(system, s, dgamma, f_tol, where)
             w_new = spectrum(system, new)[0]
+            if not used_fire and _unstable(w_new):
+                new, used_fire = relax_step(system, s, dgamma, f_tol, where, use_fire=True)
+                w_new = spectrum(system, new)[0]
+        except ConvergenceError as exc:
+            if on_failure != "stop":
+                raise
+            failure = str(exc)
+            break
         prev_pairs, cur_pairs = pairs(w), pairs(w_new)
         scale = 0.1 * (np.abs(w_new.real).max() + 1e-300)
         born, died = _match(prev_pairs, cur_pairs, scale)
@@ -292,6 +311,7 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
             checkpoint(k, {**{f"state_{key}": v for key, v in s.arrays().items()},
                            **{name: np.asarray(v) for name, v in cols.items()},
                            "events": np.array([e.row() for e in events], float).reshape(-1, 9)})
-    return AQSResult(grid, *(np.asarray(cols[n]) for n in ("stress", "n_pairs", "growth",
-                                                           "min_real", "contacts", "fire")),
-                     events=events, seconds=time.perf_counter() - t0)
+    return AQSResult(grid[:len(cols["stress"])],
+                     *(np.asarray(cols[n]) for n in ("stress", "n_pairs", "growth", "min_real",
+                                                     "contacts", "fire")),
+                     events=events, seconds=time.perf_counter() - t0, failure=failure)
