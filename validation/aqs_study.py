@@ -147,7 +147,8 @@ def study(sizes, seeds, laws, strain, dgamma, log=print, cache=None):
                 r.update(n=n, seed=seed)
                 runs[label].append(r)
                 log(f"  {label}: {len(r['drops'])} drops, {len(r['births'])} births, "
-                    f"{r['seconds']:.1f} s" + (f" (stopped: {r['failure']})" if r.get("failure") else ""))
+                    f"{r['seconds']:.1f} s"
+                    + (f" (stopped: {r['failure']})" if r.get("failure") else ""))
     rows = [law_row(label, runs[label], dgamma) for label, _, _ in laws]
     return rows, runs, packings
 

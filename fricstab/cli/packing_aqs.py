@@ -139,7 +139,8 @@ def aqs(ns, argv):
     with rd.stage("aqs"), tqdm(total=n_steps, initial=done, desc="aqs", unit="step",
                                disable=not show_progress(ns), file=sys.stderr) as bar:
         res = run_aqs(system, fr.state, ns.strain, ns.dgamma, f_tol=params["f_tol"],
-                      tol=ns.tol, progress=bar, resume=last, checkpoint=lambda k, arrays: ck.save(k, **arrays),
+                      tol=ns.tol, progress=bar, resume=last,
+                      checkpoint=lambda k, arrays: ck.save(k, **arrays),
                       checkpoint_every=ns.checkpoint_every, on_birth=on_birth)
     drops = detect_drops(res.strain, res.stress, ns.drop_threshold)
     births = [e for e in res.events if e.kind == "birth"]

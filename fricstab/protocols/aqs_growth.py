@@ -14,31 +14,15 @@ half of the run (the decaying root ``exp(-s t)`` is then below
 ``exp(-e_folds)`` of the growing one).
 """
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from fricstab.analysis.spectrum import decompose
 from fricstab.engine import jacobian
 from fricstab.engine import run as run_dynamics
 from fricstab.protocols.aqs import reduced_matrix
+from fricstab.protocols.growth import GrowthCheck
 
-__all__ = ["GrowthCheck", "measure_growth"]
-
-
-@dataclass(frozen=True)
-class GrowthCheck:
-    """Predicted and measured growth rate (t0^-1) of the fastest mode of a state."""
-
-    predicted: float
-    measured: float
-    eigenvalue: complex
-    dt: float
-    steps: int
-
-    @property
-    def relative_difference(self):
-        return abs(self.measured - self.predicted) / self.predicted
+__all__ = ["measure_growth"]
 
 
 def measure_growth(system, state, amplitude=1e-10, e_folds=10.0, dt_factor=0.05, frames=2000):
@@ -75,4 +59,5 @@ def measure_growth(system, state, amplitude=1e-10, e_folds=10.0, dt_factor=0.05,
     c = np.abs(disp.reshape(len(res.times), -1) @ left.conj())
     half = len(res.times) // 2
     slope = float(np.polyfit(res.times[half:], np.log(c[half:]), 1)[0])
-    return GrowthCheck(predicted, slope, complex(spec.eigenvalues[j]), float(dt), n_steps)
+    return GrowthCheck(predicted, slope, complex(spec.eigenvalues[j]),
+                       (float(res.times[half]), float(res.times[-1])))
