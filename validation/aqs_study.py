@@ -32,7 +32,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from fricstab.analysis.aqs import compare, detect_drops, wilson  # noqa: E402
+from fricstab.analysis.aqs import compare, detect_drops, preceded, wilson  # noqa: E402
 from fricstab.io.files import json_clean  # noqa: E402
 from fricstab.protocols.aqs import run_aqs  # noqa: E402
 from fricstab.scenes.packing import make_packing  # noqa: E402
@@ -82,6 +82,14 @@ def law_row(label, runs, dgamma):
     row["pair_any_state"] = (ks, ns, wilson(ks, ns))
     growth = [g for r in runs for g in r["growth_at_onset"] if g > 0]
     row["growth_at_onset_median"] = float(np.median(growth)) if growth else 0.0
+    # loading: a pair born at strain b grows by one e-fold before the drop at g
+    # only if the strain rate is below growth * (g - b): the critical rate
+    rates = []
+    for r in runs:
+        _, lag = preceded(r["drops"], r["births"], np.inf)
+        rates += [g * dl for g, dl in zip(r["growth_at_onset"], lag)
+                  if g > 0 and np.isfinite(dl)]
+    row["critical_rate_median"] = float(np.median(rates)) if rates else 0.0
     row["births_per_strain"] = sum(len(r["births"]) for r in runs) / sum(
         r["gamma_max"] for r in runs)
     row["drops_per_strain"] = sum(len(r["drops"]) for r in runs) / sum(
@@ -97,8 +105,9 @@ def table(rows):
     w1, w4 = (f"w{w}" for w in WINDOW_STEPS)
     lines = ["| law | runs | drops | births / strain | preceded, 1 step (95 % CI) | null 1 step "
              "| p | preceded, 4 steps (95 % CI) | null 4 steps | p | pair at onset (CI) | "
-             "states with a pair (CI) | median growth at onset (t0^-1) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "states with a pair (CI) | median growth at onset (t0^-1) | median critical "
+             "rate (t0^-1) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         a, b = r[w1], r[w4]
         k, n, ci = r["pair_at_onset"]
@@ -110,7 +119,7 @@ def table(rows):
             f"{b['preceded']}/{b['drops']} {_fmt_ci(b['fraction_ci95'])} | "
             f"{b['null_fraction']:.2f} | {b['pvalue_greater']:.2g} | "
             f"{k}/{n} {_fmt_ci(ci)} | {ks}/{ns} {_fmt_ci(cis)} | "
-            f"{r['growth_at_onset_median']:.2g} |")
+            f"{r['growth_at_onset_median']:.2g} | {r['critical_rate_median']:.2g} |")
     return "\n".join(lines)
 
 
@@ -153,12 +162,13 @@ def study(sizes, seeds, laws, strain, dgamma, log=print, cache=None):
     return rows, runs, packings
 
 
-def dgamma_dependence(bb, laws, strain, dgamma):
-    """Drops per unit strain and mean size at dgamma/2, dgamma, 2 dgamma (one packing)."""
+def dgamma_dependence(bb, laws, strain, dgamma, cache=None):
+    """Drops per unit strain and mean size at dgamma/2, dgamma, 2 dgamma (packing N, seed 0)."""
     out = []
     for label, law, params in laws:
         for dg in (dgamma / 2, dgamma, 2 * dgamma):
-            r = one_run(bb, law, params, strain, dg)
+            key = f"n{bb.n_total}_s0_{label.replace(' ', '_')}_{strain:g}_{dg:g}"
+            r = _cached_run(cache, lambda: bb, key, law, params, strain, dg)
             size = float(np.mean(r["drop_sizes"])) if r["drop_sizes"] else float("nan")
             out.append({"law": label, "dgamma": dg, "drops": len(r["drops"]),
                         "drops_per_strain": len(r["drops"]) / r["gamma_max"],
@@ -215,7 +225,7 @@ def main(argv=None):
         return rows
     dep = [] if a.no_dgamma_scan else dgamma_dependence(
         backbone(make_packing(a.sizes[0], 0.9, 0)), [LAWS_FULL[0], LAWS_FULL[5]], a.strain,
-        a.dgamma)
+        a.dgamma, cache=a.cache)
     stamp = (f"{datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {platform.node()}, "
              f"{time.perf_counter() - t0:.0f} s")
     doc = {"rows": rows, "dgamma_dependence": dep, "sizes": a.sizes, "seeds": a.seeds,
