@@ -211,10 +211,14 @@ def main(argv=None):
     ap.add_argument("--dgamma", type=float, default=5e-4)
     ap.add_argument("--out", type=Path, default=HERE)
     ap.add_argument("--no-dgamma-scan", action="store_true")
+    ap.add_argument("--laws", type=int, nargs="+", default=None, metavar="I",
+                    help="only these rows of LAWS_FULL (0-5)")
     a = ap.parse_args(argv)
     if a.quick:
         a.sizes, a.seeds, a.strain, a.dgamma = [64], [1], 0.01, 5e-4
     laws = LAWS_QUICK if a.quick else LAWS_FULL
+    if a.laws is not None:
+        laws = [LAWS_FULL[i] for i in a.laws]
     t0 = time.perf_counter()
     if len(a.seeds) != len(a.sizes):
         ap.error("--seeds needs one count per size")
