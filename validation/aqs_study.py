@@ -237,7 +237,7 @@ def main(argv=None):
            "runs": {k: [{kk: vv for kk, vv in r.items() if kk not in ("strain", "stress",
                                                                         "n_pairs")}
                         for r in v] for k, v in runs.items()}}
-    (a.out / "aqs_study.json").write_text(json.dumps(json_clean(doc), indent=1) + "\n")
+    (a.out / "aqs_study.json").write_text(json.dumps(json_clean(doc)) + "\n")
     figure(runs, a.out / "aqs_study.png")
     dep_lines = ["| law | dgamma | drops | drops / strain | mean size | summed drop |",
                  "|---|---|---|---|---|---|"] + [
