@@ -19,13 +19,14 @@ Scenes (``fricstab.scenes``)
     (Lee & Hurley's plane-shear cell).
 Protocols (``fricstab.protocols``)
     :func:`run_ramp`, :func:`relax_newton`, :func:`ramped_equilibrium`,
-    :func:`run_dynamics`, :func:`relax_damped`, :func:`measure_growth`,
+    :func:`run_dynamics`, :func:`relax_damped`, :func:`measure_growth`, :func:`run_aqs`,
+    :func:`measure_aqs_growth`,
     :func:`run_realization`, :func:`strain`, :func:`step_strain`, :class:`ShearRun`.
 Analyses (``fricstab.analysis``)
     :func:`decompose`, :func:`complex_pairs`, :func:`growth_rate`,
     :func:`pair_indicator`, :func:`rigidity`, :func:`linear_response`,
     :func:`dos_spectrum`, :func:`transverse_mode`, :func:`analyze_shear`,
-    :func:`d2min`, :func:`slip_spectra`.
+    :func:`d2min`, :func:`slip_spectra`, :func:`detect_drops`, :func:`compare_precursors`.
 Input and output (``fricstab.io``)
     :func:`write_state_jacobian`, :func:`system_from_state`.
 """
@@ -69,6 +70,8 @@ _NAMES = {
     "relax_damped": ("fricstab.protocols.dynamics", "relax_damped"),
     "measure_growth": ("fricstab.protocols.growth", "measure_growth"),
     "run_realization": ("fricstab.protocols.waves", "run_realization"),
+    "run_aqs": ("fricstab.protocols.aqs", "run_aqs"),
+    "measure_aqs_growth": ("fricstab.protocols.aqs_growth", "measure_growth"),
     "step_strain": ("fricstab.protocols.stepstrain", "step_strain"),
     "strain": ("fricstab.protocols.stepstrain", "strain"),
     "ShearRun": ("fricstab.protocols.shear_run", "ShearRun"),
@@ -84,6 +87,8 @@ _NAMES = {
     "analyze_shear": ("fricstab.analysis.shear", "analyze"),
     "d2min": ("fricstab.analysis.shear", "d2min"),
     "slip_spectra": ("fricstab.analysis.shear_slips", "slip_spectra"),
+    "detect_drops": ("fricstab.analysis.aqs", "detect_drops"),
+    "compare_precursors": ("fricstab.analysis.aqs", "compare"),
     # input and output
     "write_state_jacobian": ("fricstab.io.jacobian_export", "write_state_jacobian"),
     "system_from_state": ("fricstab.io.jacobian_export", "system_from_state"),

@@ -179,6 +179,8 @@ def add_parser(sub, parser_class, positive_float):
     _packing_option(j)
     _make_options(j)
     _common_options(j)
+    from fricstab.cli.packing_aqs import add_parser as add_aqs
+    add_aqs(psub, _packing_option, _make_options, _common_options)
     return p
 
 
@@ -233,6 +235,9 @@ def run(ns, argv=None):
         if ns.packing_command == "jacobian":
             from fricstab.cli.packing_make import jacobian
             return jacobian(ns, argv)
+        if ns.packing_command == "aqs":
+            from fricstab.cli.packing_aqs import aqs
+            return aqs(ns, argv)
         if ns.packing_command == "rigidity":
             from fricstab.cli.packing_rigidity import rigidity
             return rigidity(ns, argv)
