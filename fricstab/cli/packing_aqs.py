@@ -37,6 +37,11 @@ DEFAULT_CHECKPOINT_EVERY = 50
 DEFAULT_WINDOW_STEPS = 10
 
 
+def _fraction(x):
+    """A fraction for the summary line; ``n/a`` where it is undefined (no drops)."""
+    return f"{x:.3f}" if np.isfinite(x) else "n/a"
+
+
 def add_parser(psub, packing_option, make_options, common_options):
     """Register ``fricstab packing aqs`` on the packing subparsers."""
     from fricstab.analysis.aqs import DROP_THRESHOLD
@@ -183,6 +188,6 @@ def aqs(ns, argv):
           f"{len(drops)} drops, {len(births)} births ({len(located)} located), "
           f"{sum(e.kind == 'death' for e in res.events)} deaths; "
           f"{stats['preceded']} of {stats['drops']} drops preceded within {window:g} "
-          f"(null {stats['null_fraction']:.3f})")
+          f"(null {_fraction(stats['null_fraction'])})")
     print(f"wrote {rd.path}/aqs.json, aqs.png, events/ ({2 * len(located)} directories)")
     return 0

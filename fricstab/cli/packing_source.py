@@ -40,7 +40,7 @@ __all__ = ["DEPENDENTS", "NPZ", "Opened", "Source", "conflicts", "make_params", 
            "read", "refuse", "remove", "reuse"]
 
 PACKING, NPZ = "packing", "packing.npz"
-DEPENDENTS = ("rigidity", "dos", "jacobian")
+DEPENDENTS = ("rigidity", "dos", "jacobian", "aqs")
 #: What a dependent wrote before records listed their files.
 _LEGACY = {"rigidity": ("rigidity.png",), "dos": ("dos.npz", "dos.png"),
            "jacobian": ("state.npz", "jacobian.npz", "dofs.json", "mass.npy")}
