@@ -16,6 +16,12 @@ without, and the engine's contact pass of the chain 1,723 ns against 597 ns.
 A ``hot_jit`` function must not allocate (no ``np.empty``, no lists): its
 callers pass every array, scratch space included.
 
+``threads_jit`` is ``hot_jit`` with ``parallel=True``, for the few functions
+whose ``prange`` loops share the engine's work among threads
+(:mod:`fricstab.engine.parallel`); each chunk of a ``prange`` calls one
+``hot_jit`` function over a range, so the reference counting of the
+parallel region costs once per chunk, not per contact.
+
 ``hot_inline_jit`` adds numba's IR inlining, for the tiny functions called per
 contact (the law-id dispatch, the separation of a pair): a call with ~40
 scalar arguments costs ~15 ns per contact, as much as half a contact law.
@@ -23,13 +29,15 @@ scalar arguments costs ~15 ns per contact, as much as half a contact law.
 
 import numba
 
-__all__ = ["hot_inline_jit", "hot_jit", "kernel_jit"]
+__all__ = ["hot_inline_jit", "hot_jit", "kernel_jit", "threads_jit"]
 
 kernel_jit = numba.njit(cache=True, error_model="numpy")
 
 try:  # ``_nrt`` is a compiler flag of numba's own (numba/core/options.py)
     hot_jit = numba.njit(cache=True, error_model="numpy", _nrt=False)
     hot_inline_jit = numba.njit(cache=True, error_model="numpy", _nrt=False, inline="always")
+    threads_jit = numba.njit(cache=True, error_model="numpy", _nrt=False, parallel=True)
 except (TypeError, KeyError):  # pragma: no cover - a numba without the flag
     hot_jit = kernel_jit
     hot_inline_jit = numba.njit(cache=True, error_model="numpy", inline="always")
+    threads_jit = numba.njit(cache=True, error_model="numpy", parallel=True)
