@@ -150,7 +150,7 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
     new = np.zeros((n, 3))
     dq = np.zeros((n, 3))
     n_chunks = parallel.chunks(n)
-    space = None
+    c, space = None, None
     state.v[:] = 0.0
     meas = np.zeros(8)
     par = params.array()
@@ -162,7 +162,7 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
         if it > end and end < max_iter:   # the start, or a chunk of iterations done
             signals.check(f" in FIRE iteration {it}")
             end = min(max_iter, it + chunk - 1)
-        if space is None or state.contacts is not c:
+        if state.contacts is not c:
             c = state.contacts
             space = parallel.workspace(c, n, n_chunks)
         it, status, res = _fire(system.law_id, system._p, system._pw, system.walls, state.q,
