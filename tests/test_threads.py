@@ -147,6 +147,19 @@ def test_a_law_refusing_an_overlap_on_a_thread_stops_the_run_with_one_line(threa
         assert "\n" not in text
 
 
+def test_the_default_count_stays_serial_on_a_busy_machine_and_an_explicit_one_is_used(
+        monkeypatch):
+    monkeypatch.setattr(parallel, "_explicit", False)
+    monkeypatch.setattr(parallel, "busy", lambda: True)
+    assert parallel.chunks(10_000) == 1
+    monkeypatch.setattr(parallel, "busy", lambda: False)
+    assert parallel.chunks(10_000) == parallel.available_threads()
+    assert parallel.chunks(parallel.PARALLEL_MIN - 1) == 1
+    monkeypatch.setattr(parallel, "busy", lambda: True)
+    parallel.set_threads(parallel.available_threads())
+    assert parallel.chunks(10_000) == parallel.available_threads()
+
+
 @pytest.mark.parametrize("bad", [0, -1, 10**6])
 def test_a_thread_count_out_of_range_is_a_parameter_error(bad):
     with pytest.raises(ParameterError, match="threads must be between 1 and"):

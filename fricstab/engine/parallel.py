@@ -16,11 +16,18 @@ bit, and a run resumed from a checkpoint (``--resume``) stays bit-identical
 whatever ``--threads`` either part ran with.
 
 The thread count is numba's (``NUMBA_NUM_THREADS``, all cores by default;
-:func:`set_threads` lowers it at run time, ``fricstab --threads N``).  A system
+:func:`set_threads` sets it at run time, ``fricstab --threads N``).  A system
 below :data:`PARALLEL_MIN` particles runs both loops on one thread: there
 the cost of waking the threads twice a step exceeds the work (the chain has
-10 disks and ~20 contacts, ~1 us a step).
+10 disks and ~20 contacts, ~1 us a step).  Left at its default (no
+:func:`set_threads`), a run also stays on one thread when the machine is busy
+(:func:`busy`): the threads meet twice a step, and a core taken by another job
+stalls every meeting by a scheduler time slice; measured on the project's
+2-core machine under a load of 5-9, two threads ran 10x slower than one
+(validation/benchmarks/engine.md).  An explicit count is always used.
 """
+
+import os
 
 import numba
 import numpy as np
@@ -30,12 +37,14 @@ from fricstab._numba import hot_jit, threads_jit
 from fricstab.engine import passes
 from fricstab.errors import ParameterError
 
-__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "chunks", "set_threads",
+__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "set_threads",
            "workspace"]
 
 #: Particles below which the dynamics pass stays on one thread (measured:
 #: docs/concepts/performance.md).
 PARALLEL_MIN = 256
+
+_explicit = False   # set_threads was called: use that count whatever the load
 
 
 def available_threads():
@@ -52,12 +61,30 @@ def set_threads(n):
         raise ParameterError(f"threads must be an integer, got {n!r}") from None
     if not 1 <= n <= top:
         raise ParameterError(f"threads must be between 1 and {top} (NUMBA_NUM_THREADS), got {n}")
+    global _explicit
     numba.set_num_threads(n)
+    _explicit = True
+
+
+def busy():
+    """Whether other jobs hold the cores: 1-minute load average above the core count + 1/2."""
+    try:
+        return os.getloadavg()[0] > (os.cpu_count() or 1) + 0.5
+    except (OSError, AttributeError):   # no load average on this platform
+        return False
 
 
 def chunks(n_particles):
-    """How many chunks a system of ``n_particles`` splits each loop into (1: serial)."""
-    return numba.get_num_threads() if n_particles >= PARALLEL_MIN else 1
+    """How many chunks a system of ``n_particles`` splits each loop into (1: serial).
+
+    The thread count; 1 below :data:`PARALLEL_MIN` particles, and 1 on a busy
+    machine unless :func:`set_threads` chose the count (module docstring).
+    The chunks change no bit of the result.
+    """
+    threads = numba.get_num_threads()
+    if n_particles < PARALLEL_MIN or threads == 1 or (not _explicit and busy()):
+        return 1
+    return threads
 
 
 def workspace(contacts, n, n_chunks):

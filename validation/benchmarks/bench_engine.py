@@ -23,12 +23,14 @@ before they were deleted (engine / old: chain 1.91, packing 1.10, plane shear
 """
 
 import argparse
+import os
 import statistics
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(1, str(Path(__file__).resolve().parents[1]))   # validation/_packings
 import numpy as np  # noqa: E402
 from _common import write_table  # noqa: E402
 
@@ -59,8 +61,8 @@ def chain_case(steps):
 # ---------------------------------------------------------------- packing
 
 def packing_case(steps, n=1024):
-    from fricstab.scenes.packing import make_packing
-    p = make_packing(n, 0.90, seed=0)
+    from _packings import packing
+    p = packing(n, 0.90, seed=0)
     rng = np.random.default_rng(1)
     v = 1e-3 * rng.standard_normal((n, 3))
     radius = p.radius
@@ -128,7 +130,9 @@ def main():
               lambda: shear_case(4_000 // k))]
     rows = []
     for name, make in cases:
-        n, rates = measure(make(), ns.repeats, counts)
+        set_threads(1)   # the preparation (packing FIRE, shear compression) on one thread
+        case = make()
+        n, rates = measure(case, ns.repeats, counts)
         m1, m2 = (statistics.median(rates[t]) for t in counts)
         spread = " / ".join(f"{max(rates[t]) / min(rates[t]):.2f}" for t in counts)
         rows.append([name, f"{n}", f"{m1:.3g}", f"{m2:.3g}", f"{m2 / m1:.2f}", spread])
@@ -138,7 +142,9 @@ def main():
                                              "2 threads / 1", "spread max/min (1 / 2)"], rows,
                 notes=[f"Median of {ns.repeats} interleaved runs each. A ratio counts only "
                        "where it exceeds the spread; on a machine whose cores are busy with "
-                       "other work the 2-thread figure drops (a thread waits for the slower)."])
+                       "other work the 2-thread figure drops (a thread waits for the slower). "
+                       f"Load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
+                       "cores."])
 
 
 if __name__ == "__main__":

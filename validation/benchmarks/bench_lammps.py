@@ -373,7 +373,10 @@ def main(argv=None):
         f"Scene: Ishima packing at phi = {PHI}, k_T/k_N = {KT}, dt = {DT}, skin {SKIN}, "
         f"velocities N(0, {AMP}^2); {repeats} runs each, about {work:.0e} particle-steps per "
         "run; LAMMPS `Loop time`, ours `time.perf_counter` around `fricstab.engine.run` "
-        "(compilation excluded).", f"Total {time.perf_counter() - t_all:.0f} s."]
+        "(compilation excluded).", f"Total {time.perf_counter() - t_all:.0f} s; load average "
+        f"at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores (other jobs running "
+        "make the 2-core columns meaningless: each step our threads meet twice, LAMMPS' ranks "
+        "exchange ghosts, and a core taken by another job stalls both)."]
     write_table("lammps", "Throughput: fricstab DEM against LAMMPS (particle-steps per second)",
                 ["`python validation/benchmarks/bench_lammps.py"
                  f"{' --quick' if ns.quick else ''}`; the force check (lammps_forces.md) passed "
