@@ -22,9 +22,11 @@ the cost of waking the threads twice a step exceeds the work (the chain has
 10 disks and ~20 contacts, ~1 us a step).  Left at its default (no
 :func:`set_threads`), a run also stays on one thread when the machine is busy
 (:func:`busy`): the threads meet twice a step, and a core taken by another job
-stalls every meeting by a scheduler time slice; measured on the project's
-2-core machine under a load of 5-9, two threads ran 10x slower than one
-(validation/benchmarks/engine.md).  An explicit count is always used.
+delays every meeting.  Measured on the project's 2-core machine with other
+jobs running: packing N = 1,024, two threads 7.0e6-7.2e6 particle-steps/s
+against one thread's 8.0e6-9.0e6 (threads waiting passively,
+:mod:`fricstab._numba`; spinning, as OpenMP does by default, two threads ran
+10-100x slower than one).  An explicit count is always used.
 """
 
 import os
