@@ -125,6 +125,9 @@ def _parser():
     p.add_argument("--debug", action="store_true",
                    help="show the traceback of an internal error (default: one line, the "
                         "traceback written to a log file)")
+    p.add_argument("--threads", type=int, default=None, metavar="N",
+                   help="threads of the DEM engine (default: all cores, or NUMBA_NUM_THREADS); "
+                        "results are the same to the bit at every count")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
     sub.add_parser("laws", help="list the contact laws")
@@ -393,6 +396,9 @@ def _main(argv):
     from fricstab.signals import Interrupted
     try:
         ns = _parser().parse_args(argv)
+        if ns.threads is not None:
+            from fricstab.engine.parallel import set_threads
+            set_threads(ns.threads)
         quiet = getattr(ns, "quiet", False)
         if quiet:
             ns.no_progress = True

@@ -7,6 +7,8 @@
 * :mod:`~fricstab.engine.passes`: the loops over contacts (forces, blocks,
   history increment and projection, the fused dynamics pass);
 * :mod:`~fricstab.engine.jacobian`: the sparse system Jacobian ``dF/dq``;
+* :mod:`~fricstab.engine.parallel`: the dynamics pass on threads, the same to
+  the bit at every thread count (``set_threads``, ``fricstab --threads``);
 * :mod:`~fricstab.engine.verlet`: velocity Verlet with drag and controllers;
 * :mod:`~fricstab.engine.fire`: FIRE;
 * :mod:`~fricstab.engine.newton`: Newton relaxation with the Jacobian.

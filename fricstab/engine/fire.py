@@ -19,13 +19,13 @@ import numpy as np
 
 from fricstab import signals
 from fricstab._numba import hot_jit
-from fricstab.engine import passes
-from fricstab.engine.verlet import CHUNK
+from fricstab.engine import parallel
+from fricstab.engine.verlet import CHUNK, law_error
 from fricstab.errors import NumericalError
 
 __all__ = ["FireParameters", "fire"]
 
-OK, REBUILD, BAD_FORCE, CONVERGED = 0, 1, 2, 4
+OK, REBUILD, BAD_FORCE, CONVERGED, BAD_LAW = 0, 1, 2, 4, 5
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,7 @@ class FireParameters:
 @hot_jit
 def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, idamp, family,
           ext, lx, ly, shift, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, meas,
-          par, sv, it0, stop, max_iter, tol, work):
+          par, sv, it0, stop, max_iter, tol, fcon, live, pstart, pidx, work, errs):
     """FIRE iterations ``it0 .. stop`` (of ``max_iter``); ``sv = [dt, chi, n_pos]``
     carried between calls, so iterations split over calls are those of one call.
 
@@ -61,10 +61,19 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
     f_inc, f_dec, f_alpha, a_start, n_min, dt_max = par[2], par[3], par[4], par[5], par[6], par[1]
     lim = skin * skin
     res = np.inf
+    box = work[0, 7, :5]   # (lx, ly, shift, dshift, shift rate) of the passes
+    box[0] = lx
+    box[1] = ly
+    box[2] = shift
+    box[3] = 0.0
+    box[4] = 0.0
     for it in range(it0, stop + 1):
-        passes.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly,
-                            shift, 0.0, 0.0, damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
-                            new, dof, meas, work, False, False)
+        bad = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
+                                    box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, new,
+                                    dof, meas, False, False, fcon, live, pstart, pidx, work, errs)
+        if bad >= 0:
+            sv[0], sv[1], sv[2] = dt, chi, n_pos
+            return it, BAD_LAW, float(bad)
         res = 0.0
         for i in range(n):
             if family[i] == 0:
@@ -162,7 +171,8 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
     f = np.zeros((n, 3))
     new = np.zeros((n, 3))
     dq = np.zeros((n, 3))
-    work = np.zeros((8, 6))
+    n_chunks = parallel.chunks(n)
+    c, space = None, None
     state.v[:] = 0.0
     meas = np.zeros(8)
     par = params.array()
@@ -174,17 +184,21 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
         if it > end and end < max_iter:   # the start, or a chunk of iterations done
             signals.check(f" in FIRE iteration {it}")
             end = min(max_iter, it + chunk - 1)
-        c = state.contacts
+        if state.contacts is not c:
+            c = state.contacts
+            space = parallel.workspace(c, n, n_chunks)
         it, status, res = _fire(system.law_id, system._p, system._pw, system.walls, state.q,
                                 state.v, f, new, dq, system.gmass, system.radius, system.rscale,
                                 system.damping_mass, system.damping_inertia, system.family,
                                 system.external, float(system.lx), float(system.ly),
                                 float(state.shift), c.i, c.j, c.m, c.k, c.hist, c.flag, c.out,
                                 state.ref, float(system.skin), system.dof, system.damping, meas,
-                                par, sv, it, end, max_iter, float(tol), work)
+                                par, sv, it, end, max_iter, float(tol), *space)
         if status == REBUILD:
             system.rebuild(state)  # the histories are carried; dq is applied next
             continue
+        if status == BAD_LAW:
+            law_error(system, state, int(res))
         if status == BAD_FORCE:
             raise NumericalError(f"non-finite contact force in FIRE iteration {it}",
                                  step=int(it), quantity="contact force")

@@ -24,9 +24,13 @@ Passes
 :func:`project_pass`
     Histories onto their admissible sets at the current configuration
     (Coulomb circle, caps; zero for a lost contact).
-:func:`advance_pass`
-    One dynamics step of every contact at the new configuration, geometry
-    computed once: ``h += A dq``, projection, forces, contact damping.
+:func:`advance_range`
+    One dynamics step of a range of contacts at the new configuration,
+    geometry computed once: ``h += A dq``, projection, forces, contact
+    damping, each contact's forces into its own row of ``fcon``.
+:func:`gather_range`
+    The forces on a range of particles from ``fcon``, in contact order
+    (:mod:`fricstab.engine.parallel` runs both on threads).
 :func:`contact_pass`
     Each contact's own forces (for stresses, force networks, exports).
 """
@@ -38,8 +42,8 @@ from fricstab.engine.contacts import separation
 from fricstab.generated.dispatch import (pair_advance, pair_eval, pair_project, pair_rate,
                                          wall_advance, wall_eval, wall_project, wall_rate)
 
-__all__ = ["advance_pass", "contact_pass", "eval_pass", "increment_pass",
-           "project_pass"]
+__all__ = ["advance_range", "contact_pass", "driven_force", "eval_pass", "gather_range",
+           "increment_pass", "layout", "project_pass"]
 
 
 
@@ -193,26 +197,25 @@ def _damping(dx, dy, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp, r
 
 
 @hot_jit
-def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, ly, shift,
-                 dshift, shift_rate, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, f,
-                 dof, meas, work, want_out, track_driven):
-    """One dynamics step of every contact at the new configuration ``q``.
+def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp,
+                  ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out):
+    """One dynamics step of contacts ``lo .. hi - 1`` at the new configuration ``q``.
 
-    ``dq`` (N, 3) is the displacement of the step (the image of a contact
-    with ``k != 0`` moves by ``k dshift`` more in x); ``v`` the velocities of
+    ``box = (lx, ly, shift, dshift, shift_rate)``: the periods, the
+    Lees-Edwards offset, its growth over the step and its rate.  ``dq`` (N,
+    3) is the displacement of the step (the image of a contact with
+    ``k != 0`` moves by ``k dshift`` more in x); ``v`` the velocities of
     the drift (for the dashpots, ``damp = (alpha_n, alpha_t, eta_r)``, off
-    when all are 0).  Forces into ``f`` (``ext`` first); ``cout[c]`` = force on
-    i (x, y) and the elastic normal force, written only ``if want_out`` (a
-    caller reads them after its last step); ``meas[0:2]`` the summed contact
-    force on driven particles (family 2) if ``track_driven``.  Finiteness is the caller's check,
-    on the summed forces (one test per dof, not per contact).
+    when all are 0).  Each contact writes only its own rows: its generalized
+    forces into ``fcon[c]`` (on i in ``0 .. dof - 1``, on j in ``dof .. 2 dof - 1``;
+    a wall contact's on i in global axes), ``live[c] = 0`` for a pair apart by
+    far (no force: :func:`gather_range` skips it) and 1 otherwise; ``cout[c]``
+    = force on i (x, y) and the elastic normal force, written only ``if
+    want_out`` (a caller reads them after its last step).  So contacts may be
+    advanced in any order or on several threads with the same result.
     """
-    n = q.shape[0]
-    for a in range(n):
-        for b in range(3):
-            f[a, b] = ext[a, b]
+    lx, ly, shift, dshift, shift_rate = box[0], box[1], box[2], box[3], box[4]
     nd = 2 * dof
-    fc = work[0, :nd]
     du = work[1, :nd]
     aux = work[2, :4]
     dmp = work[3, :4]
@@ -220,17 +223,18 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, 
     zero3 = work[5, :3]
     zero3[:] = 0.0
     damped = damp[0] > 0.0 or damp[1] > 0.0 or damp[2] > 0.0
-    meas[0] = 0.0
-    meas[1] = 0.0
-    for c in range(ci.shape[0]):
+    for c in range(lo, hi):
         i = ci[c]
         j = cj[c]
+        fc = fcon[c, :nd]
+        live[c] = 1
         if j >= 0:
             dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
             if _apart(dx, dy, radius[i], radius[j]):
                 for b in range(hist.shape[1]):
                     hist[c, b] = 0.0  # a contact that opened forgets its history
                 flag[c] = 0
+                live[c] = 0
                 if want_out:
                     cout[c, 0] = 0.0
                     cout[c, 1] = 0.0
@@ -241,8 +245,6 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, 
                 du[dof + b] = dq[j, b]
             du[dof] += ck[c] * dshift
             fl = pair_advance(law, dx, dy, radius[i], radius[j], p, hist[c], du, fc, aux)
-            fx = fc[0]
-            fy = fc[1]
             if damped and aux[3] > 0.0:
                 for b in range(3):
                     vj[b] = v[j, b]
@@ -250,25 +252,13 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, 
                 _damping(dx, dy, radius[i], radius[j], rscale[i], rscale[j], v[i], vj, aux[0],
                          aux[1], aux[2], mdamp[i], mdamp[j], idamp[i], idamp[j], damp,
                          (fl & 2) != 0, dmp)
-                fx += dmp[0]
-                fy += dmp[1]
-                fc[0] = fx
-                fc[1] = fy
+                fc[0] += dmp[0]
+                fc[1] += dmp[1]
                 fc[dof] -= dmp[0]
                 fc[dof + 1] -= dmp[1]
                 if dof == 3:
                     fc[2] += dmp[2] / rscale[i]
                     fc[5] += dmp[3] / rscale[j]
-            for b in range(dof):
-                f[i, b] += fc[b]
-                f[j, b] += fc[dof + b]
-            if track_driven:
-                if family[i] == 2:
-                    meas[0] += fx
-                    meas[1] += fy
-                if family[j] == 2:
-                    meas[0] -= fx
-                    meas[1] -= fy
         else:
             w = -1 - j
             d = walls[w, 1]
@@ -289,17 +279,63 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, lx, 
                 fc[1] += dmp[1]
                 if dof == 3:
                     fc[2] += dmp[2] / rscale[i]
-            fx = fc[0] * d
-            fy = fc[1] * d
-            f[i, 0] += fx
-            f[i, 1] += fy
-            if dof == 3:
-                f[i, 2] += fc[2]
+            fc[0] = fc[0] * d
+            fc[1] = fc[1] * d
         flag[c] = fl
         if want_out:
-            cout[c, 0] = fx
-            cout[c, 1] = fy
+            cout[c, 0] = fc[0]
+            cout[c, 1] = fc[1]
             cout[c, 2] = aux[3]
+
+
+@hot_jit
+def gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
+    """Forces on particles ``lo .. hi - 1``: ``ext``, then their contacts in contact order.
+
+    ``pidx[pstart[a]:pstart[a + 1]]`` lists particle a's contacts as ``2 c + side``
+    (side 0: a is i, 1: a is j) in increasing ``c``: exactly the order in which
+    one loop over the contacts scattering into i and j would add them, so the
+    sums are the same to the bit however the particles are shared out.
+    """
+    for a in range(lo, hi):
+        for b in range(3):
+            f[a, b] = ext[a, b]
+        for e in range(pstart[a], pstart[a + 1]):
+            code = pidx[e]
+            c = code >> 1
+            if live[c]:
+                off = (code & 1) * dof
+                for b in range(dof):
+                    f[a, b] += fcon[c, off + b]
+
+
+@hot_jit
+def driven_force(ci, cj, live, fcon, family, meas):
+    """``meas[0:2]``: the pair-contact force on the driven particles (family 2), in contact order."""
+    meas[0] = 0.0
+    meas[1] = 0.0
+    for c in range(ci.shape[0]):
+        j = cj[c]
+        if j < 0 or not live[c]:
+            continue
+        if family[ci[c]] == 2:
+            meas[0] += fcon[c, 0]
+            meas[1] += fcon[c, 1]
+        if family[j] == 2:
+            meas[0] -= fcon[c, 0]
+            meas[1] -= fcon[c, 1]
+
+
+def layout(ci, cj, n):
+    """``(pstart, pidx)`` of :func:`gather_range`: each particle's contacts in contact order."""
+    c = np.arange(len(ci), dtype=np.int64)
+    pair = cj >= 0
+    code = np.concatenate([2 * c, 2 * c[pair] + 1])
+    owner = np.concatenate([ci, cj[pair]])
+    order = np.argsort(owner * (2 * len(ci) + 2) + code, kind="stable")
+    pstart = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(owner, minlength=n), out=pstart[1:])
+    return pstart, np.ascontiguousarray(code[order])
 
 
 @hot_jit

@@ -21,9 +21,11 @@ with the dynamic displacement ``dt v`` only, as in the preparation of the
 plane-shear cell before the engine.  The Lees-Edwards offset grows
 by ``rate dt`` per step.
 
-The loop is serial; contacts and particles are visited in a fixed order, so a
-run restarted from a saved state (:meth:`State.arrays`) at a step boundary is
-bit-identical to an uninterrupted one on the same machine.
+Contacts and particles are visited in a fixed order, and the dynamics pass
+sums every force in that order whatever the thread count
+(:mod:`fricstab.engine.parallel`), so a run restarted from a saved state
+(:meth:`State.arrays`) at a step boundary is bit-identical to an uninterrupted
+one on the same machine, with any ``--threads``.
 
 The compiled loop returns to Python at least every :data:`CHUNK` particle-steps
 (about a second), where a pending SIGINT or SIGTERM stops the run
@@ -36,12 +38,12 @@ import numpy as np
 
 from fricstab import signals
 from fricstab._numba import hot_jit
-from fricstab.engine import passes
+from fricstab.engine import parallel
 from fricstab.errors import NumericalError
 
 __all__ = ["Controls", "Run", "run"]
 
-OK, REBUILD, BAD_FORCE, BAD_STATE, CONVERGED = 0, 1, 2, 3, 4
+OK, REBUILD, BAD_FORCE, BAD_STATE, CONVERGED, BAD_LAW = 0, 1, 2, 3, 4, 5
 #: Particle-steps between returns to Python (signal checks): ~0.2-1 s of work.
 CHUNK = 1 << 21
 
@@ -105,7 +107,7 @@ class Run:
 def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, family, ext,
           lx, ly, shiftv, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas,
           dt, step0, n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every,
-          work, dqh):
+          dqh, fcon, live, pstart, pidx, work, errs):
     """Steps ``step0 .. n_steps - 1``; returns (step, status, item, frame, residual).
 
     ``shiftv = [shift, ref_shift, time]`` is updated in place.  ``mid``: the
@@ -129,6 +131,11 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
     if n_drv:
         y_top /= n_drv
     lim = skin * skin
+    box = work[0, 7, :5]   # (lx, ly, shift, dshift, shift rate) of the passes
+    box[0] = lx
+    box[1] = ly
+    box[3] = rate * dt
+    box[4] = rate
     for step in range(step0, n_steps):
         if not (mid and step == step0):
             if record_every > 0 and step % record_every == 0 and frame < rec_q.shape[0]:
@@ -190,9 +197,13 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
             if skin > 0.0 and gap * gap > lim:
                 return step, REBUILD, -1, frame, residual
         hq = dqh if affine else dq
-        passes.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp, idamp, lx, ly,
-                            shiftv[0], rate * dt, rate, damp, ci, cj, cm, ck, hist, flag, cout,
-                            ext, family, f, dof, meas, work, step == n_steps - 1, n_drv > 0)
+        box[2] = shiftv[0]
+        bad = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp, idamp,
+                                    box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, f,
+                                    dof, meas, step == n_steps - 1, n_drv > 0, fcon, live,
+                                    pstart, pidx, work, errs)
+        if bad >= 0:
+            return step + 1, BAD_LAW, bad, frame, residual
         for i in range(n):
             if family[i] == 0:
                 for b in range(dof):
@@ -223,6 +234,14 @@ def _culprit(system, state, particle):
     k = bad[0]
     return (f" from pair ({c.i[k]}, {c.j[k]})" if c.j[k] >= 0 else
             f" from its contact with wall {-1 - c.j[k]}")
+
+
+def law_error(system, state, contact):
+    """The ValueError a contact kernel raised on a thread (where it cannot propagate)."""
+    system.contact_forces(state)   # the same law at the same overlaps: raises it here
+    c = state.contacts
+    raise ValueError(f"the contact law refused contact ({c.i[contact]}, {c.j[contact]}) or one "
+                     "listed after it")
 
 
 def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, record_hist=False,
@@ -295,17 +314,20 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
     rec_h = np.empty((n_frames if record_hist else 0, c.n, c.hist.shape[1]))
     dq = np.zeros((system.n, 3))
     dqh = np.zeros((system.n, 3))
-    work = np.zeros((8, 6))
+    n_chunks = parallel.chunks(system.n)
     shiftv = np.array([state.shift, state.ref_shift, state.time])
     step, mid, frame = step0, False, 0
     residual, converged = np.inf, False
     chunk = max(1, CHUNK // max(system.n, 1))
     end = step0
+    space = None
     while step < n_steps:
         if step >= end:   # a call or a chunk begins: the state is at a step boundary
             signals.check(f" at step {step}")
             end = min(n_steps, step + chunk)
-        c = state.contacts
+        if state.contacts is not c or space is None:
+            c = state.contacts
+            space = parallel.workspace(c, system.n, n_chunks)
         if record_hist and c.n != rec_h.shape[1]:
             raise ValueError("record_hist needs a contact list that never changes")
         step, status, item, frame, residual = _loop(
@@ -314,8 +336,8 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             system.damping_inertia, system.family, system.external, float(system.lx),
             float(system.ly), shiftv, c.i, c.j, c.m, c.k, c.hist, c.flag, c.out, state.ref,
             float(system.skin), system.dof, system.damping, ctrl, meas, float(dt), step,
-            end, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol), check_every, work,
-            dqh)
+            end, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol), check_every, dqh,
+            *space)
         state.shift, state.ref_shift, state.time = shiftv
         mid = False
         if status == REBUILD:
@@ -329,6 +351,8 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             raise NumericalError(f"non-finite force on particle {item} at step {step}"
                                  f"{_culprit(system, state, item)}", step=int(step),
                                  item=int(item), quantity="force")
+        elif status == BAD_LAW:
+            law_error(system, state, item)
         elif status == CONVERGED:
             converged = True
             break

@@ -1,44 +1,41 @@
-"""Throughput of the one engine against the three per-scene loops it replaced.
+"""Throughput of the engine on 1 and 2 threads, scene by scene.
 
-For each scene the same system, law and step are run by the old loop and by
-the engine (``fricstab.engine.run``), interleaved ``--repeats`` times; the
-table gives particle-steps per second (N x steps / seconds, compilation
-excluded by a warm-up), the median of each, the ratio engine / old and the
-run-to-run spread (max/min over the repeats of each code) that any
-difference must exceed to count.
+For each scene the same system, law and step are run by the engine
+(``fricstab.engine.run``) on 1 thread and on 2 (``fricstab --threads``),
+interleaved ``--repeats`` times; the table gives particle-steps per second
+(N x steps / seconds, compilation excluded by a warm-up), the median of each,
+the ratio 2 threads / 1 thread and the run-to-run spread (max/min over the
+repeats) that any difference must exceed to count.  The result is the same to
+the bit on any thread count (tests/test_threads.py); below
+``fricstab.engine.parallel.PARALLEL_MIN`` particles the engine stays on one
+thread whatever the count.
 
 * chain: Charan's scene (N = 10, charan + charan_wall, F_x = 0.03, undamped);
-  old: ``fricstab.protocols.dynamics._verlet``;
 * packing: Ishima's scene (N = 1024, phi = 0.90, kT/kN = 1, kicked);
-  old: ``fricstab.protocols.pack_dynamics``;
 * plane shear: Lee & Hurley's quick preset prepared (bulk, fixed floor,
-  servo-driven lid, dashpots); old: ``fricstab.protocols.shear_dem``.
+  servo-driven lid, dashpots), sheared.
 
-The old loops are deleted once the scenes run on the engine: this table was
-measured in one run before that (its header names the revision), and the
-script then times the engine alone.
+The per-scene loops the engine replaced were timed against it in one run
+before they were deleted (engine / old: chain 1.91, packing 1.10, plane shear
+1.09; git history of engine.md).
 
 ``python validation/benchmarks/bench_engine.py [--repeats R] [--quick]`` -> engine.md
 """
 
 import argparse
+import os
 import statistics
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(1, str(Path(__file__).resolve().parents[1]))   # validation/_packings
 import numpy as np  # noqa: E402
 from _common import write_table  # noqa: E402
 
 from fricstab.engine import Material, System, run  # noqa: E402
-
-
-def _old(module):
-    try:
-        return __import__(module, fromlist=["x"])
-    except ImportError:
-        return None
+from fricstab.engine.parallel import available_threads, set_threads  # noqa: E402
 
 
 # ---------------------------------------------------------------- chain
@@ -58,14 +55,14 @@ def chain_case(steps):
         run(system, s, dt, steps)
         return n * steps
 
-    return n, engine, None   # the chain's own loop (dynamics._verlet) is deleted
+    return n, engine
 
 
 # ---------------------------------------------------------------- packing
 
 def packing_case(steps, n=1024):
-    from fricstab.scenes.packing import make_packing
-    p = make_packing(n, 0.90, seed=0)
+    from _packings import packing
+    p = packing(n, 0.90, seed=0)
     rng = np.random.default_rng(1)
     v = 1e-3 * rng.standard_normal((n, 3))
     radius = p.radius
@@ -78,14 +75,7 @@ def packing_case(steps, n=1024):
         s = base.copy()
         run(system, s, 0.02, steps)
         return n * steps
-
-    pdyn = _old("fricstab.protocols.pack_dynamics")
-
-    def old():
-        st = pdyn.init_state(p.pos, radius, p.box, 1.0, velocity=v)
-        pdyn.run(st, 0.02, steps)
-        return n * steps
-    return n, engine, (old if pdyn is not None else None)
+    return n, engine
 
 
 # ---------------------------------------------------------------- plane shear
@@ -105,24 +95,26 @@ def shear_case(steps):
         s = base.copy()
         run(sim.system, s, sim.dt, steps, sim.controls)
         return n * steps
-    return n, engine, None   # the old loop (fricstab.protocols.shear_dem) is deleted
+    return n, engine
 
 
-def measure(case, repeats):
-    n, engine, old = case
-    engine()
-    if old is not None:
-        old()
-    te, to = [], []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        work = engine()
-        te.append(work / (time.perf_counter() - t))
-        if old is not None:
-            t = time.perf_counter()
-            work = old()
-            to.append(work / (time.perf_counter() - t))
-    return n, te, to
+def measure(case, repeats, counts):
+    """Rates (particle-steps/s) of the engine at each thread count, runs interleaved."""
+    n, engine = case
+    rates = {t: [] for t in counts}
+    try:
+        for t in counts:
+            set_threads(t)
+            engine()   # warm-up: compilation, caches
+        for _ in range(repeats):
+            for t in counts:
+                set_threads(t)
+                start = time.perf_counter()
+                work = engine()
+                rates[t].append(work / (time.perf_counter() - start))
+    finally:
+        set_threads(available_threads())
+    return n, rates
 
 
 def main():
@@ -131,29 +123,28 @@ def main():
     ap.add_argument("--quick", action="store_true", help="fewer steps (a smoke run)")
     ns = ap.parse_args()
     k = 10 if ns.quick else 1
+    counts = (1, min(2, available_threads()))
     cases = [("chain (N = 10, charan)", lambda: chain_case(200_000 // k)),
              ("packing (N = 1,024, ishima)", lambda: packing_case(2_000 // k)),
              ("plane shear (quick preset, lee_hurley + dashpots + servo)",
               lambda: shear_case(4_000 // k))]
     rows = []
     for name, make in cases:
-        n, te, to = measure(make(), ns.repeats)
-        me = statistics.median(te)
-        spread_e = max(te) / min(te)
-        if to:
-            mo = statistics.median(to)
-            spread_o = max(to) / min(to)
-            rows.append([name, f"{n}", f"{mo:.3g}", f"{me:.3g}", f"{me / mo:.2f}",
-                         f"{spread_o:.2f} / {spread_e:.2f}"])
-        else:
-            rows.append([name, f"{n}", "(deleted)", f"{me:.3g}", "-", f"- / {spread_e:.2f}"])
+        set_threads(1)   # the preparation (packing FIRE, shear compression) on one thread
+        case = make()
+        n, rates = measure(case, ns.repeats, counts)
+        m1, m2 = (statistics.median(rates[t]) for t in counts)
+        spread = " / ".join(f"{max(rates[t]) / min(rates[t]):.2f}" for t in counts)
+        rows.append([name, f"{n}", f"{m1:.3g}", f"{m2:.3g}", f"{m2 / m1:.2f}", spread])
         print(rows[-1], flush=True)
-    write_table("engine", "Engine throughput against the per-scene loops it replaced",
-                __doc__.split("\n\n")[1:3], ["scene", "N", "old loop (particle-steps/s)",
-                                             "engine", "engine / old",
-                                             "spread max/min (old / engine)"], rows,
-                notes=[f"Median of {ns.repeats} interleaved runs each; one core (both loops "
-                       "are serial).  A ratio counts only where it exceeds the spread."])
+    write_table("engine", "Engine throughput on 1 and 2 threads (particle-steps per second)",
+                __doc__.split("\n\n")[1:3], ["scene", "N", "1 thread", "2 threads",
+                                             "2 threads / 1", "spread max/min (1 / 2)"], rows,
+                notes=[f"Median of {ns.repeats} interleaved runs each. A ratio counts only "
+                       "where it exceeds the spread; on a machine whose cores are busy with "
+                       "other work the 2-thread figure drops (a thread waits for the slower). "
+                       f"Load average at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} "
+                       "cores."])
 
 
 if __name__ == "__main__":

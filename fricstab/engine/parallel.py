@@ -1,0 +1,165 @@
+"""The dynamics pass on threads, the same to the bit at every thread count.
+
+One step of the contacts is two loops, each shared among the threads by a
+``prange`` over chunks (:func:`advance_pass`):
+
+1. over the contacts (:func:`fricstab.engine.passes.advance_range`): each
+   contact advances its own history and writes its forces on i and j into its
+   own row of ``fcon``; no two contacts write the same memory;
+2. over the particles (:func:`fricstab.engine.passes.gather_range`): each
+   particle sums the applied force and then its contacts' rows in increasing
+   contact order, from a list built once per contact list (:func:`workspace`).
+
+That order is the order in which one serial loop over the contacts scattering
+into i and j adds them, so every thread count gives the serial result to the
+bit, and a run resumed from a checkpoint (``--resume``) stays bit-identical
+whatever ``--threads`` either part ran with.
+
+The thread count is numba's (``NUMBA_NUM_THREADS``, all cores by default;
+:func:`set_threads` sets it at run time, ``fricstab --threads N``).  A system
+below :data:`PARALLEL_MIN` particles runs both loops on one thread: there
+the cost of waking the threads twice a step exceeds the work (the chain has
+10 disks and ~20 contacts, ~1 us a step).  Left at its default (no
+:func:`set_threads`), a run also stays on one thread when the machine is busy
+(:func:`busy`): the threads meet twice a step, and a core taken by another job
+delays every meeting.  Measured on the project's 2-core machine with other
+jobs running: packing N = 1,024, two threads 7.0e6-7.2e6 particle-steps/s
+against one thread's 8.0e6-9.0e6 (threads waiting passively,
+:mod:`fricstab._numba`; spinning, as OpenMP does by default, two threads ran
+10-100x slower than one).  An explicit count is always used.
+"""
+
+import os
+
+import numba
+import numpy as np
+from numba import prange
+
+from fricstab._numba import hot_jit, threads_jit
+from fricstab.engine import passes
+from fricstab.errors import ParameterError
+
+__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "set_threads",
+           "workspace"]
+
+#: Particles below which the dynamics pass stays on one thread (measured:
+#: docs/concepts/performance.md).
+PARALLEL_MIN = 256
+
+_explicit = False   # set_threads was called: use that count whatever the load
+
+
+def available_threads():
+    """The most threads numba may use (``NUMBA_NUM_THREADS``, default the core count)."""
+    return int(numba.config.NUMBA_NUM_THREADS)
+
+
+def set_threads(n):
+    """Use ``n`` threads from now on (1 <= n <= :func:`available_threads`)."""
+    top = available_threads()
+    try:
+        n = int(n)
+    except (TypeError, ValueError):
+        raise ParameterError(f"threads must be an integer, got {n!r}") from None
+    if not 1 <= n <= top:
+        raise ParameterError(f"threads must be between 1 and {top} (NUMBA_NUM_THREADS), got {n}")
+    global _explicit
+    numba.set_num_threads(n)
+    _explicit = True
+
+
+def busy():
+    """Whether other jobs hold the cores: 1-minute load average above the core count + 1/2."""
+    try:
+        return os.getloadavg()[0] > (os.cpu_count() or 1) + 0.5
+    except (OSError, AttributeError):   # no load average on this platform
+        return False
+
+
+def chunks(n_particles):
+    """How many chunks a system of ``n_particles`` splits each loop into (1: serial).
+
+    The thread count; 1 below :data:`PARALLEL_MIN` particles, and 1 on a busy
+    machine unless :func:`set_threads` chose the count (module docstring).
+    The chunks change no bit of the result.
+    """
+    threads = numba.get_num_threads()
+    if n_particles < PARALLEL_MIN or threads == 1 or (not _explicit and busy()):
+        return 1
+    return threads
+
+
+def workspace(contacts, n, n_chunks):
+    """Scratch of :func:`advance_pass` for a contact list: ``(fcon, live, pstart, pidx, work, errs)``."""
+    k = contacts.n
+    pstart, pidx = passes.layout(contacts.i, contacts.j, n)
+    return (np.zeros((k, 6)), np.zeros(k, np.int8), pstart, pidx,
+            np.zeros((n_chunks, 8, 6)), np.full(n_chunks, -1, np.int64))
+
+
+@hot_jit
+def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj,
+             cm, ck, hist, flag, cout, fcon, live, dof, work, want_out):
+    """:func:`~fricstab.engine.passes.advance_range`: -1, or ``lo`` if a kernel raised.
+
+    An exception cannot leave a thread of a parallel region (numba reports a
+    SystemError after it); the caller raises it again outside the threads.
+    """
+    try:
+        passes.advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
+                             box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work,
+                             want_out)
+    except Exception:  # noqa: BLE001 - numba catches every exception or none
+        return lo
+    return -1
+
+
+@threads_jit
+def _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm,
+             ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs):
+    n_chunks = errs.shape[0]
+    k = ci.shape[0]
+    n = q.shape[0]
+    for t in prange(n_chunks):
+        errs[t] = _guarded(t * k // n_chunks, (t + 1) * k // n_chunks, law, p, pw, walls, q, dq,
+                           v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm, ck, hist, flag,
+                           cout, fcon, live, dof, work[t], want_out)
+    for t in prange(n_chunks):
+        passes.gather_range(t * n // n_chunks, (t + 1) * n // n_chunks, ext, fcon, live, pstart,
+                            pidx, dof, f)
+
+
+@hot_jit
+def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj,
+                 cm, ck, hist, flag, cout, ext, family, f, dof, meas, want_out, track_driven,
+                 fcon, live, pstart, pidx, work, errs):
+    """One dynamics step of every contact at ``q``; forces into ``f`` (``ext`` first).
+
+    ``box`` as in :func:`~fricstab.engine.passes.advance_range`; the scratch
+    ``fcon .. errs`` is :func:`workspace`'s.  With one chunk both loops run
+    here, on the calling thread, and a kernel's exception propagates; with
+    several, returns the first contact of the first chunk where a kernel
+    raised, or -1 (the caller raises the law's error again:
+    :func:`fricstab.engine.verlet.law_error`).  ``meas[0:2]``: the summed
+    contact force on driven particles (family 2) if ``track_driven``.
+    Finiteness is the caller's check, on the summed forces.
+    """
+    bad = -1
+    if errs.shape[0] > 1:
+        _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm,
+                 ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs)
+        for t in range(errs.shape[0]):
+            if errs[t] >= 0:
+                bad = errs[t]
+                break
+    else:
+        passes.advance_range(0, ci.shape[0], law, p, pw, walls, q, dq, v, radius, rscale, mdamp,
+                             idamp, box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof,
+                             work[0], want_out)
+        passes.gather_range(0, q.shape[0], ext, fcon, live, pstart, pidx, dof, f)
+    if track_driven:
+        passes.driven_force(ci, cj, live, fcon, family, meas)
+    else:
+        meas[0] = 0.0
+        meas[1] = 0.0
+    return bad

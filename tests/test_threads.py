@@ -1,0 +1,177 @@
+"""The engine on threads: every thread count gives the serial result to the bit.
+
+The dynamics pass advances each contact into its own row and sums each
+particle's rows in contact order (fricstab.engine.parallel), so 1 and 2
+threads must agree exactly: ``np.array_equal`` on positions, velocities and
+histories, no tolerance.  The threshold below which a system stays serial is
+set to 0 here, so that even the chain's 10 disks take the threaded path.
+"""
+
+import copy
+import functools
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fricstab.engine import Controls, fire, parallel, run
+from fricstab.errors import NumericalError, ParameterError
+
+pytestmark = pytest.mark.skipif(parallel.available_threads() < 2,
+                                reason="needs NUMBA_NUM_THREADS >= 2")
+
+REGRESSION = Path(__file__).resolve().parents[1] / "validation" / "regression"
+
+
+@pytest.fixture
+def threaded(monkeypatch):
+    """Run a callable at 1 and at 2 threads (every system threaded); threads restored after."""
+    monkeypatch.setattr(parallel, "PARALLEL_MIN", 0)
+    top = parallel.available_threads()
+
+    def at(threads, fn):
+        parallel.set_threads(threads)
+        try:
+            return fn()
+        finally:
+            parallel.set_threads(top)
+    return at
+
+
+def _equal(a, b):
+    assert len(a) == len(b)
+    for x, y in zip(a, b):
+        x, y = np.asarray(x), np.asarray(y)
+        assert x.shape == y.shape and np.array_equal(x, y)
+
+
+# Each scene is prepared once, on the first (1-thread) call; then advanced a few
+# hundred steps on 1 and on 2 threads from copies of the same state.
+
+@functools.lru_cache(maxsize=1)
+def _chain_equilibrium():
+    from fricstab.protocols.ramp import ramped_equilibrium
+    from fricstab.scenes.chain import ChainScene
+    sc = ChainScene()
+    return sc, ramped_equilibrium(sc, 0.03)
+
+
+def _chain():
+    from fricstab.protocols.dynamics import default_dt
+    from fricstab.scenes.chain import chain_system
+    sc, eq = _chain_equilibrium()
+    state = eq.copy()
+    rec = run(chain_system(sc.with_fx(0.031)), state, default_dt(sc, 0.02), 300,
+              record_every=50, record_hist=True)   # past F_c: the chain moves
+    return state.q, state.v, state.contacts.hist, rec.q, rec.v, rec.hist, rec.forces
+
+
+@functools.lru_cache(maxsize=1)
+def _jammed():
+    from fricstab.scenes.packing import make_packing
+    return make_packing(64, 0.90, seed=0)
+
+
+def _packing():
+    from fricstab.scenes.packing_friction import material, packing_system
+    p = _jammed()
+    system = packing_system(p, material("ishima", kt=1.0), skin=0.1)
+    state = system.state(p.pos)
+    rng = np.random.default_rng(1)
+    state.v[:] = 0.03 * rng.standard_normal((p.n, 3))   # enough to rebuild the list
+    rec = run(system, state, 0.02, 200, Controls(drag=0.1), record_every=100)
+    out = [state.q, state.v, state.contacts.hist, state.contacts.out, rec.q, rec.forces,
+           state.rebuilds]
+    state.q[:, :2] += 0.02 * rng.standard_normal((p.n, 2))
+    system.rebuild(state)
+    it, res = fire(system, state, 1e-9, 200)
+    return out + [state.q, state.contacts.hist, it, res]
+
+
+@functools.lru_cache(maxsize=1)
+def _prepared_cell():
+    """A compressed 40-disk plane-shear cell at the start of shear (prepared once)."""
+    from fricstab.protocols.shear_run import ShearRun, prepare
+    from fricstab.scenes.shear import make_cell
+    sim = ShearRun(make_cell({"n": 40, "seed": 3, "prep_tol": 0.1, "prep_ke": 1e-5}))
+    prepare(sim)
+    sim.start_shear()
+    return sim
+
+
+def _shear():
+    sim = copy.deepcopy(_prepared_cell())
+    sim.advance(200)   # servo lid, dashpots, walls of disks
+    st = sim.state
+    return st.q, st.v, st.contacts.hist, sim.forces, sim.meas, st.rebuilds
+
+
+@pytest.mark.parametrize("scene", [_chain, _packing, _shear], ids=["chain", "packing", "shear"])
+def test_one_and_two_threads_agree_to_the_bit(threaded, scene):
+    _equal(threaded(1, scene), threaded(2, scene))
+
+
+def test_packing_dynamics_at_two_threads_holds_the_pinned_regression(threaded):
+    """The regression case (N = 256, 2,000 steps) on 2 threads: bit-equal to 1 thread,
+    and within the pinned values' tolerances (validation/regression/tolerances.py)."""
+    sys.path.insert(0, str(REGRESSION))
+    from cases import CASES
+    from tolerances import TOLERANCES
+    one = threaded(1, CASES["packing_dynamics"])
+    two = threaded(2, CASES["packing_dynamics"])
+    pinned = json.loads((REGRESSION / "pinned.json").read_text())["packing_dynamics"]
+    for key, (kind, value, _reason) in TOLERANCES["packing_dynamics"].items():
+        new, old = np.asarray(two[key], float), np.asarray(pinned[key], float)
+        assert np.array_equal(new, np.asarray(one[key], float))
+        limit = {"exact": 0.0, "abs": value}.get(kind, value * float(np.max(np.abs(old))))
+        assert np.max(np.abs(new - old)) <= limit
+
+
+def test_a_law_refusing_an_overlap_on_a_thread_stops_the_run_with_one_line(threaded):
+    """The kernel's ValueError cannot leave a thread: the engine raises it again
+    outside, and the shear run turns it into its one-line NumericalError."""
+    from fricstab.protocols.shear_run import ShearRun
+    from fricstab.scenes.shear import make_cell
+
+    def thrown():
+        sim = ShearRun(make_cell({"n": 40, "seed": 3}))
+        b = np.flatnonzero(sim.cell.kind == 0)[:2]
+        d = sim.state.q[b[1], :2] - sim.state.q[b[0], :2]
+        sim.state.v[b[0], :2] = 50 * d / np.linalg.norm(d)
+        with pytest.raises(NumericalError, match="reduce dt_frac") as info:
+            sim.advance(2000)
+        return str(info.value)
+    for text in (threaded(1, thrown), threaded(2, thrown)):
+        assert "\n" not in text
+
+
+def test_the_default_count_stays_serial_on_a_busy_machine_and_an_explicit_one_is_used(
+        monkeypatch):
+    monkeypatch.setattr(parallel, "_explicit", False)
+    monkeypatch.setattr(parallel, "busy", lambda: True)
+    assert parallel.chunks(10_000) == 1
+    monkeypatch.setattr(parallel, "busy", lambda: False)
+    assert parallel.chunks(10_000) == parallel.available_threads()
+    assert parallel.chunks(parallel.PARALLEL_MIN - 1) == 1
+    monkeypatch.setattr(parallel, "busy", lambda: True)
+    parallel.set_threads(parallel.available_threads())
+    assert parallel.chunks(10_000) == parallel.available_threads()
+
+
+@pytest.mark.parametrize("bad", [0, -1, 10**6])
+def test_a_thread_count_out_of_range_is_a_parameter_error(bad):
+    with pytest.raises(ParameterError, match="threads must be between 1 and"):
+        parallel.set_threads(bad)
+
+
+def test_the_threads_option_of_the_command():
+    from fricstab.cli import EXIT_OK, EXIT_USAGE, main
+    top = parallel.available_threads()
+    try:
+        assert main(["--threads", "0", "laws"]) == EXIT_USAGE
+        assert main(["--threads", str(top + 1), "laws"]) == EXIT_USAGE
+        assert main(["--threads", "1", "laws"]) == EXIT_OK
+    finally:
+        parallel.set_threads(top)
