@@ -44,7 +44,23 @@ class Drop:
 
 
 def detect_drops(strain, stress, threshold=DROP_THRESHOLD):
-    """The drops of a path (module doc)."""
+    """The stress drops of an AQS path (module doc: consecutive drop steps are one drop).
+
+    Parameters
+    ----------
+    strain : array_like
+        Strain of each relaxed state (dimensionless).
+    stress : array_like
+        Shear stress of each state (``k_N d^(-1/2)``).
+    threshold : float, optional
+        A step whose stress falls by more than this (``k_N d^(-1/2)``) drops.
+
+    Returns
+    -------
+    list of Drop
+        ``step`` (first dropping step), ``gamma`` (onset strain), ``size``
+        (summed decrease) and ``steps``.
+    """
     ds = np.diff(np.asarray(stress, float))
     out = []
     for k in np.flatnonzero(ds < -threshold) + 1:
@@ -91,13 +107,24 @@ def wilson(k, n, confidence=0.95):
 
 
 def compare(runs, window):
-    """Pooled precursor statistic of one law over ``runs``.
+    """Pooled precursor statistic of one law over ``runs`` (module doc).
 
-    Each run is a dict with ``drops`` (onset strains), ``births`` (strains)
-    and ``gamma_max``.  Returns a dict: drops, preceded, fraction and its
-    Wilson interval, the drop-weighted null ``p0``, the one-sided binomial
-    p-value, and the median lags (drops; the null's over a uniform grid of
-    strains) among the preceded.
+    Parameters
+    ----------
+    runs : list of dict
+        Each with ``drops`` (onset strains), ``births`` (strains) and
+        ``gamma_max`` (the strain the path reached).
+    window : float
+        A drop is preceded when a birth lies in ``(g - window, g]`` (strain).
+
+    Returns
+    -------
+    dict
+        ``drops``, ``preceded``, ``fraction`` and its 95 % Wilson interval
+        ``fraction_ci95``, the drop-weighted null ``null_fraction``, the
+        one-sided exact binomial ``pvalue_greater``, and the median lags
+        ``median_lag`` (drops) and ``median_lag_null`` (a uniform grid of
+        strains) among the preceded; NaN where undefined (no drops).
     """
     from scipy.stats import binomtest
     k = n = 0

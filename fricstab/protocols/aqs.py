@@ -222,14 +222,62 @@ def locate(system, prev, gamma_prev, gamma_lo, gamma_hi, center, radius, tol, f_
 def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_events=True,
             progress=None, resume=None, checkpoint=None, checkpoint_every=0, on_birth=None,
             on_failure="raise"):
-    """Shear ``state`` (an equilibrium, relaxed here first) to ``strain`` in steps ``dgamma``.
+    """Athermal quasistatic shear with history: shear ``state`` to ``strain`` in steps ``dgamma``.
 
-    ``resume``: the arrays of a checkpoint (:meth:`AQSResult` fields, ``state_*``
-    and ``step``); ``checkpoint(step, arrays)`` is called every
-    ``checkpoint_every`` steps; ``on_birth(k, event, state_lo, state_hi)``
-    for every located birth (``k`` counts births from 0).  ``on_failure="stop"``:
-    a step without equilibrium ends the path there (``failure`` says why)
-    instead of raising.
+    Each step applies the affine simple shear (the Lees-Edwards offset grows by
+    ``dgamma L``) at frozen history, then relaxes by Newton with the verified
+    Jacobian, the history carried by the law's increment rule (through the
+    Coulomb cap for charan; FIRE first when Newton alone does not converge).
+    At every relaxed state the spectrum of ``M^-1 K`` is taken (dense);
+    complex pairs are tracked between steps as the chain ramp does, and each
+    birth and death is bisected in strain on the pair indicator.
+
+    Parameters
+    ----------
+    system : fricstab.System
+        A periodic packing system (:func:`packing_system`); reduced units
+        (lengths in d, stiffness k_N, time t0).
+    state : fricstab.State
+        The start, an equilibrium (it is relaxed here first).
+    strain : float
+        Final shear strain (dimensionless), ``>= dgamma``.
+    dgamma : float
+        Strain step, ``> 0``.
+    f_tol : float, optional
+        Force tolerance of every relaxation, ``max |F|`` in ``k_N d^(3/2)``.
+    tol : float, optional
+        Bracket of a located pair event in strain (default 1e-6).
+    locate_events : bool, optional
+        Bisect births and deaths (``False``: step resolution only).
+    progress : callable, optional
+        ``progress(step, n_steps)`` after every step.
+    resume : dict, optional
+        The arrays of a checkpoint (:class:`AQSResult` fields, ``state_*`` and
+        ``step``); the path continues after its step, bit-identically.
+    checkpoint : callable, optional
+        ``checkpoint(step, arrays)``, called every ``checkpoint_every`` steps.
+    checkpoint_every : int, optional
+        Steps between checkpoints (0: none).
+    on_birth : callable, optional
+        ``on_birth(k, event, state_lo, state_hi)`` for every located birth
+        (``k`` counts births from 0), with the states at both bracket ends.
+    on_failure : {"raise", "stop"}, optional
+        A step without equilibrium raises :class:`ConvergenceError` naming the
+        step, or (``"stop"``) ends the path there (``failure`` says why).
+
+    Returns
+    -------
+    AQSResult
+        Per state: strain, shear stress (``k_N d^(-1/2)``), pair count,
+        growth rate (``t0^-1``, largest Re sqrt(-lambda)), contacts; the events
+        with their brackets; the wall time.
+
+    Raises
+    ------
+    ParameterError
+        ``dgamma <= 0``, ``strain < dgamma``, a bad ``tol``.
+    ConvergenceError
+        A relaxation that does not converge (``on_failure="raise"``).
     """
     check_strain(strain, dgamma)
     if not (np.isfinite(tol) and tol > 0):

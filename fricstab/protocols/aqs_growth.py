@@ -19,6 +19,7 @@ import numpy as np
 from fricstab.analysis.spectrum import decompose
 from fricstab.engine import jacobian
 from fricstab.engine import run as run_dynamics
+from fricstab.errors import ParameterError
 from fricstab.protocols.aqs import reduced_matrix
 from fricstab.protocols.growth import GrowthCheck
 
@@ -28,11 +29,41 @@ __all__ = ["measure_growth"]
 def measure_growth(system, state, amplitude=1e-10, e_folds=10.0, dt_factor=0.05, frames=2000):
     """Perturb the equilibrium ``state`` along its fastest-growing mode and fit the growth.
 
-    ``amplitude`` (in d) times ``e^e_folds`` bounds the final amplitude (2e-6 d
-    by default: linear, well below the overlaps ~1e-2 d and the smoothing scale
-    of charan's Coulomb cap).  ``dt = dt_factor / sqrt(max |lambda|)``: Verlet's
-    phase error on the fastest mode is ``O((omega dt)^2) ~ 2.5e-3`` and far
-    less on the slow growing one.
+    Newtonian dynamics (velocity Verlet) from ``state`` displaced by
+    ``amplitude`` along the real part of the right eigenvector of ``M^-1 K``
+    with the largest growth rate; the amplitude of that mode (projection on
+    the left eigenvector) is fitted to an exponential over the second half of
+    the run.
+
+    Parameters
+    ----------
+    system : fricstab.System
+        The packing system (reduced units: d, k_N, t0).
+    state : fricstab.State
+        An equilibrium with a complex pair (a growing mode).
+    amplitude : float, optional
+        Initial displacement in d; ``amplitude e^e_folds`` bounds the final one
+        (2e-6 d by default: linear, well below the overlaps ~1e-2 d and the
+        smoothing scale of charan's Coulomb cap).
+    e_folds : float, optional
+        Length of the run in e-folds of the predicted growth.
+    dt_factor : float, optional
+        ``dt = dt_factor / sqrt(max |lambda|)``: Verlet's phase error on the
+        fastest mode is ``O((omega dt)^2) ~ 2.5e-3`` and far less on the slow
+        growing one.
+    frames : int, optional
+        Recorded frames for the fit.
+
+    Returns
+    -------
+    GrowthCheck
+        ``predicted`` and ``measured`` growth rates (``t0^-1``), the
+        eigenvalue, the fit window (t0) and ``relative_difference``.
+
+    Raises
+    ------
+    ParameterError
+        The state has no growing mode.
     """
     _, k = jacobian(system, state)
     gm = system.gmass[system.free, :system.dof].ravel()
@@ -43,7 +74,7 @@ def measure_growth(system, state, amplitude=1e-10, e_folds=10.0, dt_factor=0.05,
     j = int(np.argmax(rates))
     predicted = float(rates[j])
     if predicted <= 0:
-        raise ValueError("the state has no growing mode")
+        raise ParameterError("the state has no growing mode (no complex pair): nothing to confirm")
     right = basis @ spec.right[:, j]
     left = basis @ spec.left[:, j]
     shape = right.real / np.abs(right.real).max()
