@@ -183,7 +183,7 @@ def test_dynamics_resume_with_another_parameter_is_refused_naming_it(tmp_path, m
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "mu: 10.0 there, 5.0 now" in err
     assert main(argv + ["--resume", "--disk", "1"]) == 2      # the figure's disk: an output
-    assert "disk: 3 there, 1 now" in capsys.readouterr().err
+    assert "disk: 4 there, 1 now" in capsys.readouterr().err
     assert main(argv + ["--resume"]) == 0
     assert not (out / "checkpoints").exists()
 

@@ -146,7 +146,7 @@ def test_tiny_real_runs_succeed_or_fail_numerically(cmd, n, fx, fy, mu, duration
         argv = ["chain", cmd, "--n", str(n), "--fx", repr(fx), "--fy", fy, "--mu", mu,
                 "--step", "0.01", "--out", str(Path(tmp) / "o"), "--no-progress"]
         if cmd == "dynamics":
-            argv += ["--duration", duration, "--amplitude", amplitude, "--disk", "0",
+            argv += ["--duration", duration, "--amplitude", amplitude, "--disk", "1",
                      "--checkpoint-every", "50"]
         rc, out, err = _run(argv)
         _check(rc, out, err, argv)

@@ -133,8 +133,9 @@ def add_parser(sub, parser_class, positive_float):
                            help="duration in Charan's time unit sqrt(m 2R/kn) (default 20000)")
             c.add_argument("--amplitude", type=positive_float(), default=1e-9,
                            help="perturbation, times the wall overlap (default 1e-9)")
-            c.add_argument("--disk", type=_count, default=3,
-                           help="disk whose trajectory is drawn (default 3: the paper's 4th)")
+            c.add_argument("--disk", type=_count, default=4,
+                           help="disk whose trajectory is drawn, counted from 1 as the paper "
+                                "does (1 = the pushed disk; default 4)")
             c.add_argument("--export", choices=("xyz", "dump"), default=None,
                            help="also write the trajectory for OVITO: extended XYZ "
                                 "(trajectory.xyz) or LAMMPS dump text (trajectory.dump)")
@@ -230,8 +231,8 @@ def _dynamics(ns, argv):
 
     loaded = _scene(ns, fx=ns.fx)
     scene = loaded.with_fx(0.0)
-    if not 0 <= ns.disk < scene.n:
-        raise ParameterError(f"--disk must be in [0, {scene.n - 1}], got {ns.disk}")
+    if not 1 <= ns.disk <= scene.n:
+        raise ParameterError(f"--disk must be in [1, {scene.n}] (counted from 1), got {ns.disk}")
     _check_ramp_steps(ns.fx, ns.step, "--fx")
     unit = time_unit(scene)
     dt = default_dt(scene, 0.02)
@@ -286,7 +287,7 @@ def _dynamics(ns, argv):
                      wall_t=wall_t, wall_hist=res.wall_hist, msd=m, centre_of_mass=com,
                      first_breach_time=paper_time(scene, tau), first_breach_x=x_tau)
         rd.write_png("dynamics.png",
-                     lambda tmp: dynamics_figure(t, m, com, res.positions, ns.disk, tmp))
+                     lambda tmp: dynamics_figure(t, m, com, res.positions, ns.disk - 1, tmp))
         if ns.export is not None:
             _export_trajectory(rd, ns.export, scene, t, res.positions, res.velocities)
     _finish(rd, doc, scene, ns, argv, protocol)
