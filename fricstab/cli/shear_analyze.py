@@ -60,7 +60,7 @@ def add_analyze_parsers(s):
                    help="soft (default): the k softest eigenvalues before each slip by "
                         "shift-invert ARPACK (pairs and growth rates among those k); dense: "
                         "the whole spectrum (pairs over all of it; one dense eigenvalue "
-                        "problem of dof x bulk disks per slip, ~40x slower on the quick run)")
+                        "problem of dof x bulk disks per slip, ~20x slower on the quick run)")
     a.add_argument("--spectra-k", type=int, default=None, metavar="K",
                    help="the window of softest eigenvalues (default 50); trade: ARPACK cost "
                         "grows ~ K, the statistics see more of the spectrum")
