@@ -1,12 +1,17 @@
 """``fricstab shear analyze|export`` and the Jacobian before each slip (fricstab.analysis.shear_slips)."""
 
 import json
+import shutil
 
 import numpy as np
 import pytest
+import scipy.sparse.linalg
 
+from fricstab.analysis.shear_spectrum import (SOFT_K, clamped_system, recorded_state,
+                                              spectrum)
 from fricstab.cli import main
 from fricstab.cli.shear_analyze import frames_of
+from tests.test_shear_spectrum import soft_error_bound
 
 SMALL = ["--n", "40", "--strain", "0.01", "--dgamma", "1e-5", "--gamma0", "0.002"]
 
@@ -42,8 +47,69 @@ def test_every_slip_gets_its_spectrum(run_dir):
     assert set(corr) == {"n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue"}
     text = (run_dir / "analysis.md").read_text()
     assert "Fig. 9b" in text and "Jacobian before each slip" in text
+    assert rec["slip_spectra"]["route"] == "soft" and rec["slip_spectra"]["k"] == SOFT_K
+    assert "smallest modulus" in rec["slip_spectra"]["statistics_over"]
+    assert "soft route" in text and rec["parameters"]["spectra"] == "soft"
     for png in ("analysis_stress_strain.png", "analysis_slip_spectra.png"):
         assert (run_dir / png).stat().st_size > 1000
+
+
+def _slip_state(run_dir, frame):
+    frames = frames_of(run_dir)
+    p = json.loads((run_dir / "shear.json").read_text())["parameters"]
+    system = clamped_system(p["law"], p["law_params"], frames.radius, frames.mass,
+                            frames.inertia, frames.kind, frames.lx)
+    ij, _, _, hist, flag = frames.contacts(frame)
+    return system, recorded_state(system, frames.pos[frame], frames.angle[frame], ij, hist, flag)
+
+
+def test_soft_window_of_each_slip_matches_the_dense_one(run_dir):
+    """Frames of a real run: the k softest before each slip (ARPACK) against dense."""
+    with np.load(run_dir / "analysis.npz") as z:
+        frame, soft, fell = z["slip_frame"], z["slip_softest"], z["slip_fallback"]
+        pairs = z["slip_n_complex_pairs"]
+    assert soft.shape == (len(frame), SOFT_K + 1) and not fell.any()
+    for f, row, n_pairs in list(zip(frame, soft, pairs))[:4]:
+        system, state = _slip_state(run_dir, int(f))
+        dense = spectrum(system, state, SOFT_K)
+        a, b = row[~np.isnan(row)], dense.softest
+        assert len(a) == len(b)
+        near = np.abs(a[:, None] - b[None, :]).min(axis=1)
+        assert np.all(near <= soft_error_bound(system, state, a))    # its error model
+        assert n_pairs <= dense.n_complex_pairs
+
+
+def test_dense_route_and_the_window_on_the_command_line(run_dir, tmp_path, capsys):
+    out = tmp_path / "run"
+    shutil.copytree(run_dir, out)
+    assert main(["shear", "analyze", "--out", str(out), "--no-progress", "--force",
+                 "--spectra", "dense", "--spectra-k", "7"]) == 0
+    assert "slip spectra (dense)" in capsys.readouterr().out
+    rec = json.loads((out / "analysis.json").read_text())
+    sp = rec["slip_spectra"]
+    assert sp["route"] == "dense" and sp["k"] == 7 and sp["statistics_over"].startswith(
+        "the whole spectrum")
+    with np.load(out / "analysis.npz") as z, np.load(run_dir / "analysis.npz") as soft:
+        assert z["slip_softest"].shape[1] == 8
+        assert np.all(z["slip_n_complex_pairs"] >= soft["slip_n_complex_pairs"])
+    assert main(["shear", "analyze", "--out", str(out), "--force", "--spectra-k", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "--spectra-k" in err and err.strip().count("\n") == 0
+
+
+def test_arpack_failure_is_recorded(run_dir, tmp_path, monkeypatch):
+    """ARPACK fails: the dense window stands in, the record says where, never silently."""
+    def no_convergence(*args, **kw):
+        raise scipy.sparse.linalg.ArpackNoConvergence("No convergence (1 iterations)", [], [])
+    out = tmp_path / "run"
+    shutil.copytree(run_dir, out)
+    monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
+    assert main(["shear", "analyze", "--out", str(out), "--no-progress", "--force"]) == 0
+    rec = json.loads((out / "analysis.json").read_text())
+    assert rec["slip_spectra"]["fallbacks_to_dense"] == rec["slip_spectra"]["n_slips"]
+    assert any("ARPACK failed" in w["message"] for w in rec["warnings"])
+    with np.load(out / "analysis.npz") as z:
+        assert z["slip_fallback"].all()
 
 
 def test_export_loads_in_ovito(run_dir, capsys, ovito_io):

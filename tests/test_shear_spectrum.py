@@ -9,12 +9,16 @@ complex step of an independent assembly in tests/test_shear_proof.py.
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
+import scipy.linalg
+import scipy.sparse.linalg
 
-from fricstab.analysis.shear_spectrum import (CAP_REL, clamped_system, recorded_state,
-                                              spectrum)
+from fricstab.analysis.shear_spectrum import (CAP_REL, IMAG_TOL, RADIUS_TOL, SOFT_TOL,
+                                              clamped_system, recorded_state, soft_spectrum,
+                                              softest, spectrum)
 from fricstab.engine import jacobian
 from fricstab.errors import ParameterError
 from fricstab.generated.lee_hurley import lee_hurley_contact
@@ -157,3 +161,125 @@ def test_bad_input_is_named():
                        state.contacts.hist)
     with pytest.raises(ParameterError, match="not within reach"):
         recorded_state(system, state.q[:, :2], np.zeros(4), np.array([[2, 3]]), np.zeros((1, 2)))
+
+
+# ------------------------------------------------------------------ the soft route
+
+STORED = Path(__file__).resolve().parents[1] / "validation" / "regression" / "shear_state.npz"
+
+
+def _stored(scale=1.0):
+    """The stored stick state of a sheared 150-disk cell (450 dof); histories x ``scale``."""
+    with np.load(STORED) as z:
+        s = {key: z[key] for key in z.files}
+    law = {key: float(s[key]) for key in ("E", "nu", "mus", "mur")}
+    system = clamped_system("lee_hurley", law, s["radius"], s["mass"], s["inertia"], s["kind"],
+                            float(s["lx"]))
+    state = recorded_state(system, s["pos"], s["angle"], s["contacts"],
+                           scale * np.column_stack([s["ft"], s["mr"]]))
+    return system, state
+
+
+def soft_error_bound(system, state, window, tol=SOFT_TOL):
+    """Error model of the k softest against the dense route, per eigenvalue of ``window``.
+
+    Both routes are backward stable on matrices similar to D: the dense QR on
+    D (balanced by LAPACK), the sparse LU of shift-invert ARPACK on
+    ``S = -M^-1/2 K M^-1/2``; a backward error ``n eps |S|`` (Wilkinson's
+    worst case, ``|S|`` = the spectral radius here, S nearly normal) moves an
+    eigenvalue by ``cond`` times it, and ARPACK's stopping test adds ``cond
+    max(tol, eps) |lambda|``.  ``cond``: the eigenvalue condition number of
+    S, from its dense left and right eigenvectors.
+    """
+    kk = _k(system, state)
+    m = system.gmass[system.free, :system.dof].ravel()
+    s = -kk / np.sqrt(m)[:, None] / np.sqrt(m)[None, :]
+    w, vl, vr = scipy.linalg.eig(s, left=True, right=True)
+    vl, vr = vl / np.linalg.norm(vl, axis=0), vr / np.linalg.norm(vr, axis=0)
+    cond = 1.0 / np.abs(np.einsum("ij,ij->j", vl.conj(), vr))
+    at = np.abs(window[:, None] - w[None, :]).argmin(axis=1)
+    n, radius = len(w), np.abs(w).max()
+    return cond[at] * (n * EPS * radius + max(tol, EPS) * np.abs(window))
+
+
+def _nearest(a, b):
+    return np.abs(a[:, None] - b[None, :]).min(axis=1)
+
+
+@pytest.mark.parametrize("scale, k", [(1.0, 50), (0.5, 20), (0.0, 30)])
+def test_soft_route_matches_the_dense_k_softest(scale, k):
+    """Histories as stored (sliding contacts, complex pairs), halved, and none (K symmetric)."""
+    system, state = _stored(scale)
+    dense = spectrum(system, state, k)
+    soft = soft_spectrum(system, state, k)
+    assert soft.route == "soft" and dense.route == "dense" and soft.fallback == ""
+    assert soft.n_null == dense.n_null > 0                # the cell has rattlers
+    assert np.sum(dense.eigenvalues == 0) >= dense.n_null
+    a, b = soft.softest, dense.softest
+    assert len(a) == len(b) in (k, k + 1)
+    bound = soft_error_bound(system, state, a)
+    assert np.all(_nearest(a, b) <= bound)
+    assert np.all(_nearest(b, a) <= soft_error_bound(system, state, b))
+    # the window is the soft end: nothing of the dense spectrum (beside the
+    # exact zeros of the null columns) is softer than its edge
+    nonnull = np.sort(np.abs(dense.eigenvalues))[dense.n_null:]
+    assert np.abs(b).max() <= nonnull[len(b) - 1] and len(b) <= len(nonnull)
+    # the statistics of the soft route are those of the dense window
+    radius = dense.spectral_radius
+    assert abs(soft.spectral_radius / radius - 1) <= RADIUS_TOL
+    assert soft.n_complex_pairs == np.sum(np.abs(b.imag) > IMAG_TOL * radius) // 2
+    assert soft.n_complex_pairs <= dense.n_complex_pairs
+    growth_b = np.abs(np.sqrt(-b).real).max()
+    assert soft.max_growth_rate <= dense.max_growth_rate * (1 + 1e-9)
+    # growth |Re sqrt(-lambda)| ~ |Im lambda| / (2 sqrt(Re lambda)): relative error of an
+    # eigenvalue error e: e / |Im lambda| at most; bounded by the window's worst
+    assert math.isclose(soft.max_growth_rate, growth_b, rel_tol=1e-6, abs_tol=1e-9 * math.sqrt(
+        radius))
+    if dense.lowest_real_eigenvalue < 0:
+        assert soft.lowest_real_eigenvalue == pytest.approx(dense.lowest_real_eigenvalue,
+                                                            abs=bound.max())
+    else:
+        assert soft.lowest_real_eigenvalue == dense.lowest_real_eigenvalue == 0.0
+    if scale == 0.0:
+        assert soft.symmetric and soft.n_complex_pairs == dense.n_complex_pairs == 0
+
+
+def test_softest_keeps_a_conjugate_pair_whole():
+    w = np.array([3.0, 1.0, 2.0 + 1j, 2.0 - 1j, 5.0])
+    np.testing.assert_array_equal(softest(w, 2), [1.0, 2.0 + 1j, 2.0 - 1j])
+    np.testing.assert_array_equal(softest(w, 3), [1.0, 2.0 + 1j, 2.0 - 1j])
+    np.testing.assert_array_equal(softest(w, 4), [1.0, 2.0 + 1j, 2.0 - 1j, 3.0])
+    assert len(softest(w, 9)) == 5
+
+
+def test_arpack_failure_falls_back_to_dense_and_says_so(monkeypatch):
+    def no_convergence(*args, **kw):
+        raise scipy.sparse.linalg.ArpackNoConvergence("No convergence (1 iterations)", [], [])
+    system, state = _stored()
+    monkeypatch.setattr(scipy.sparse.linalg, "eigs", no_convergence)
+    spec = soft_spectrum(system, state, 50)
+    monkeypatch.undo()
+    assert "ArpackNoConvergence" in spec.fallback
+    dense = spectrum(system, state, 50)
+    a, b = spec.softest, dense.softest     # dense on D without the null columns, and with
+    assert len(a) == len(b) and np.all(_nearest(a, b) <= soft_error_bound(system, state, a))
+    assert spec.n_complex_pairs == np.sum(np.abs(dense.softest.imag) > IMAG_TOL
+                                          * dense.spectral_radius) // 2
+
+
+def test_small_problem_takes_the_dense_window():
+    system, state = _cluster(2.0)                  # 12 dof: ARPACK needs k < n - 1
+    soft = soft_spectrum(system, state, 20)
+    dense = spectrum(system, state, 20)
+    assert soft.fallback == "" and len(soft.softest) == 12 - soft.n_null
+    a, b = soft.softest, dense.softest            # two dense solves: round-off apart
+    assert np.all(_nearest(a, b) <= soft_error_bound(system, state, a))
+
+
+def test_bad_window_is_named():
+    system, state = _cluster(0.0)
+    for k in (0, -3, 2.5, True):
+        with pytest.raises(ParameterError, match="k must be an integer"):
+            soft_spectrum(system, state, k)
+    with pytest.raises(ParameterError, match="tol"):
+        soft_spectrum(system, state, 4, tol=-1.0)

@@ -102,7 +102,8 @@ def _analyze(out, p):
     from fricstab.analysis.shear_slips import slip_spectra
     frames = frames_of(out)
     res = analyze(frames, p["gamma0"], progress=False)
-    sp = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], p)
+    # whole-spectrum pair counts, as the RESULTS row reports them (not the soft default)
+    sp = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], p, route="dense")
     s, c = res.summary, sp.summary()
     corr = c["correlations_with_following_dtau_p"]["all"]
 

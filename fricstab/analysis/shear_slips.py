@@ -10,8 +10,17 @@ histories advanced by the law's increment rule, ``M`` the generalized
 masses).  A stable real mode has ``lambda = omega^2 > 0``.  Recorded per
 slip: the number of complex-conjugate pairs, the largest growth rate
 ``max |Re sqrt(-lambda)|`` (1/s) and the lowest real eigenvalue (1/s^2), the
-contacts on their tangential and rolling caps, and the drop ``Delta tau_p``
-of the slip that follows.
+k softest eigenvalues, the contacts on their tangential and rolling caps,
+and the drop ``Delta tau_p`` of the slip that follows.
+
+Route.  ``soft`` (default): the k eigenvalues of smallest modulus by
+shift-invert ARPACK, and the statistics over those k only (pairs among the
+k softest, the largest growth rate among them); ``dense``: every
+eigenvalue, the statistics over the whole spectrum (pair counts of the
+whole spectrum need it).  The module docstring of
+:mod:`fricstab.analysis.shear_spectrum` states what each can report.  A
+frame where ARPACK fails falls back to the dense eigenvalues in the same
+window; the frames are listed in ``fallback`` and one warning says how many.
 
 Contacts at a cap.  The frame records each contact's cap flags; the
 histories are SI values converted from the run's reduced units, so a history
@@ -24,6 +33,7 @@ needs the move).
 Units: SI per unit thickness, as the frames.
 """
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +41,12 @@ import numpy as np
 from fricstab import signals
 from fricstab.errors import ParameterError
 
-__all__ = ["SlipSpectra", "slip_spectra"]
+__all__ = ["SCOPE", "SlipSpectra", "slip_spectra"]
+
+#: What the statistics of each route run over (``summary()['statistics_over']``).
+SCOPE = {"soft": "the {k} eigenvalues of smallest modulus (shift-invert ARPACK); pair counts "
+                 "and growth rates of the whole spectrum need --spectra dense",
+         "dense": "the whole spectrum (dense eigenvalues)"}
 
 
 @dataclass(frozen=True)
@@ -48,6 +63,17 @@ class SlipSpectra:
         Statistics of ``D = -M^{-1} K`` at that frame (1/s, 1/s^2).
     n_sliding, n_rolling : ndarray (S,) int
         Contacts on the tangential and rolling slide branch at that frame.
+    softest : ndarray (S, k + 1) complex
+        The k softest eigenvalues by modulus (k + 1 where a conjugate pair
+        straddles the edge; NaN pads).
+    n_null : ndarray (S,) int
+        Degrees of freedom without stiffness (rattlers): exact zero eigenvalues.
+    fallback : ndarray (S,) bool
+        Soft route: ARPACK failed at that frame, the dense eigenvalues gave the window.
+    route : str
+        ``"soft"`` or ``"dense"``: what the statistics run over (module docstring).
+    k : int
+        The window.
     """
 
     frame: np.ndarray
@@ -57,6 +83,11 @@ class SlipSpectra:
     lowest_real_eigenvalue: np.ndarray
     n_sliding: np.ndarray
     n_rolling: np.ndarray
+    softest: np.ndarray
+    n_null: np.ndarray
+    fallback: np.ndarray
+    route: str
+    k: int
 
     def correlations(self):
         """Spearman of each statistic with the following Delta tau_p, overall and per bin."""
@@ -75,6 +106,10 @@ class SlipSpectra:
         """JSON-able summary: counts, ranges and the correlations."""
         s = len(self.frame)
         return {
+            "route": self.route,
+            "k": self.k,
+            "statistics_over": SCOPE[self.route].format(k=self.k),
+            "fallbacks_to_dense": int(self.fallback.sum()),
             "n_slips": s,
             "slips_with_complex_pairs": int((self.n_complex_pairs > 0).sum()),
             "n_complex_pairs_max": int(self.n_complex_pairs.max()) if s else None,
@@ -84,13 +119,14 @@ class SlipSpectra:
         }
 
 
-def slip_spectra(frames, phases, dtau_p, params, progress=False):
+def slip_spectra(frames, phases, dtau_p, params, progress=False, route="soft", k=None):
     """Spectrum statistics at the stick state before every slip (beyond Lee & Hurley).
 
     At the frame where tau peaked before every slip: the stiffness
     ``K = dF/dq`` of the bulk disks (walls clamped) from the verified blocks of
     the run's law, sliding and rolling contacts on their slide branch, and the
-    spectrum of ``D = -M^-1 K`` (dense, up to 3,000 dof).
+    spectrum of ``D = -M^-1 K``: its soft end by shift-invert ARPACK (default)
+    or the whole spectrum (dense, up to 3,000 dof); module docstring.
 
     Parameters
     ----------
@@ -106,17 +142,27 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False):
         The run's validated scene (``law``, ``law_params`` in SI).
     progress : bool
         tqdm bar.
+    route : {"soft", "dense"}
+        Soft end by ARPACK (default) or the whole spectrum.
+    k : int, optional
+        The window of softest eigenvalues (default
+        :data:`fricstab.analysis.shear_spectrum.SOFT_K`).
 
     Returns
     -------
     SlipSpectra
         Per slip: ``frame``, ``dtau_p``, ``n_complex_pairs``,
         ``max_growth_rate`` (``max |Re sqrt(-lambda)|``, 1/s),
-        ``lowest_real_eigenvalue`` (1/s^2), ``n_sliding``, ``n_rolling``.
+        ``lowest_real_eigenvalue`` (1/s^2), ``n_sliding``, ``n_rolling``;
+        over the soft window only for ``route="soft"``.
     """
     from tqdm import tqdm
 
-    from fricstab.analysis.shear_spectrum import clamped_system, recorded_state, spectrum
+    from fricstab.analysis.shear_spectrum import (ROUTES, SOFT_K, check_window, clamped_system,
+                                                  recorded_state, soft_spectrum, spectrum)
+    if route not in ROUTES:
+        raise ParameterError(f"route must be one of {ROUTES}, got {route!r}")
+    k = SOFT_K if k is None else check_window(k)
     phases = np.asarray(phases, dtype=np.int64).reshape(-1, 2)
     dtau_p = np.asarray(dtau_p, dtype=float)
     if len(dtau_p) != len(phases):
@@ -128,17 +174,29 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False):
     system = clamped_system(params["law"], params["law_params"], frames.radius, frames.mass,
                             frames.inertia, frames.kind, frames.lx)
     slips = np.flatnonzero(dtau_p < 0)
-    cols = {k: [] for k in ("n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue",
-                            "n_sliding", "n_rolling")}
-    for p in tqdm(slips, desc="slip spectra", unit="slip", disable=not progress):
+    cols = {c: [] for c in ("n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue",
+                            "n_sliding", "n_rolling", "n_null", "fallback")}
+    soft = np.full((len(slips), k + 1), np.nan, complex)
+    for s, p in enumerate(tqdm(slips, desc=f"slip spectra ({route})", unit="slip",
+                               disable=not progress)):
         signals.check()
-        k = int(phases[p, 0]) - 1
-        ij, _, _, hist, flag = frames.contacts(k)
-        state = recorded_state(system, frames.pos[k], frames.angle[k], ij, hist, flag)
-        spec = spectrum(system, state)
-        for key in cols:
-            cols[key].append(getattr(spec, key))
-    ints = ("n_complex_pairs", "n_sliding", "n_rolling")
-    return SlipSpectra(frame=phases[slips, 0] - 1, dtau_p=dtau_p[slips],
-                       **{k: np.asarray(v, dtype=np.int64 if k in ints else float)
-                          for k, v in cols.items()})
+        f = int(phases[p, 0]) - 1
+        ij, _, _, hist, flag = frames.contacts(f)
+        state = recorded_state(system, frames.pos[f], frames.angle[f], ij, hist, flag)
+        spec = soft_spectrum(system, state, k) if route == "soft" else spectrum(system, state, k)
+        for c in cols:
+            cols[c].append(getattr(spec, c))
+        soft[s, :len(spec.softest)] = spec.softest
+    reasons = cols.pop("fallback")
+    fell = np.array([bool(r) for r in reasons], bool)
+    if fell.any():
+        first = int(np.flatnonzero(fell)[0])
+        warnings.warn(f"slip spectra: ARPACK failed at {int(fell.sum())} of {len(slips)} frames "
+                      f"(first: frame {int(phases[slips[first], 0]) - 1}, {reasons[first]}); "
+                      "their window came from the dense eigenvalues (slip_fallback)",
+                      RuntimeWarning, stacklevel=2)
+    ints = ("n_complex_pairs", "n_sliding", "n_rolling", "n_null")
+    return SlipSpectra(frame=phases[slips, 0] - 1, dtau_p=dtau_p[slips], softest=soft,
+                       fallback=fell, route=route, k=int(k),
+                       **{c: np.asarray(v, dtype=np.int64 if c in ints else float)
+                          for c, v in cols.items()})

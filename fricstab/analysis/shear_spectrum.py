@@ -36,23 +36,59 @@ is moved inside by the same ``CAP_REL``.  The forces change by ``CAP_REL`` of
 the cap at most, far below anything derived from them.  Histories in the
 run's own units (a checkpoint, the regression state) need no flags.
 
-Spectrum route: dense ``scipy.linalg.eigvals`` of D (up to
-:data:`MAX_DENSE_DOF` degrees of freedom).  Small-amplitude motion
-``M q'' = K q`` has modes ``exp(s t)`` with ``s^2 = -lambda``; the growth rate
-of the state is ``max_lambda |Re sqrt(-lambda)|`` (0 for a positive real
-lambda, > 0 for a negative one or a complex pair: flutter).
+Spectrum routes
+---------------
+Small-amplitude motion ``M q'' = K q`` has modes ``exp(s t)`` with
+``s^2 = -lambda``; the growth rate of a mode is ``|Re sqrt(-lambda)|`` (0 for
+a positive real lambda, > 0 for a negative one or a complex pair: flutter).
+A degree of freedom whose column or row of K is zero (a disk without a
+touching contact: a rattler) gives an exact zero eigenvalue (D is block
+triangular), and the rest of the spectrum is that of D without it; their
+number is ``n_null``.
+
+* ``dense`` (:func:`spectrum`): every eigenvalue, ``scipy.linalg.eigvals``
+  of D (up to :data:`MAX_DENSE_DOF` degrees of freedom): the statistics are
+  over the whole spectrum.
+* ``soft`` (:func:`soft_spectrum`): only the soft end, the ``k`` eigenvalues
+  of smallest modulus ``|lambda| = |omega|^2`` beside the null dof, by
+  shift-invert ARPACK (``scipy.sparse.linalg.eigs``, ``sigma = -SHIFT_REL *
+  radius``) on the sparse ``S = -M^{-1/2} K M^{-1/2}`` without the null dof.
+  S is similar to D and as close to normal as K is to symmetric; D itself is
+  far from normal (``m`` and ``I/s^2`` differ by ~1e13 in SI), which would
+  cost ARPACK six digits.
+
+What the soft route reports, over its window (:func:`softest`) only:
+complex pairs *among the k softest* (the dense route counts them over the
+whole spectrum, most of them stiffer); the largest growth rate *among the k
+softest* (a lower bound of the dense one, whose maximum may sit in a stiffer
+pair); the lowest real eigenvalue of the window, or 0 when ``n_null > 0``
+(the dense value whenever the dense minimum is 0 or a negative eigenvalue
+softer than the window's edge).  The spectral radius (the scale of the pair
+threshold :data:`IMAG_TOL`) comes from an ARPACK estimate of the largest
+modulus to :data:`RADIUS_TOL`.  Where ARPACK does not converge or the
+shifted matrix is exactly singular, the route takes the dense eigenvalues in
+the same window and says why in ``fallback``.
+
+Error of the soft route: ARPACK stops when the residual of a Ritz pair of
+``(S - sigma)^-1`` is below ``tol`` times its Ritz value, so an eigenvalue
+moves by ``~ cond * max(tol, eps) * |lambda|`` (``cond`` its condition
+number in S), plus ``~ cond * n eps |S|`` from the sparse LU: the size of the
+dense route's own round-off.  ``bench_slip_spectra.py`` measures it.
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse.linalg
 
 from fricstab.engine import Material, System, jacobian
 from fricstab.errors import ParameterError, check_finite
 
-__all__ = ["CAP_REL", "CAP_SLOTS", "IMAG_TOL", "MAX_DENSE_DOF", "ShearSpectrum",
-           "clamped_system", "recorded_state", "spectrum"]
+__all__ = ["CAP_REL", "CAP_SLOTS", "IMAG_TOL", "MAX_DENSE_DOF", "RADIUS_TOL", "ROUTES",
+           "SHIFT_REL", "SOFT_K", "SOFT_TOL", "ShearSpectrum", "check_window", "clamped_system",
+           "recorded_state", "soft_spectrum", "softest", "spectrum"]
 
 #: Largest problem for the dense eigenvalue route (3,000 dof: ~1 min, 0.2 GB).
 MAX_DENSE_DOF = 3000
@@ -64,26 +100,52 @@ IMAG_TOL = 1e-8
 CAP_REL = 1e-9
 #: History slots of each flag bit: bit 1 the tangential cap, bit 2 the rolling cap.
 CAP_SLOTS = {"lee_hurley": {1: (0,), 2: (1,)}, "charan": {1: (0, 1)}}
+#: Spectrum routes (module docstring).
+ROUTES = ("soft", "dense")
+#: Default window of the soft route: the k eigenvalues of smallest modulus.
+SOFT_K = 50
+#: ARPACK tolerance of the soft route (0: machine precision).
+SOFT_TOL = 0.0
+#: Relative tolerance of the ARPACK estimate of the spectral radius (it only
+#: scales the pair threshold IMAG_TOL, where a factor 1 + 1e-3 is immaterial).
+RADIUS_TOL = 1e-3
+#: Shift of the soft route, ``sigma = -SHIFT_REL * radius``: off an exact
+#: singularity of K (a mechanism, not only rattlers), far below the soft end.
+SHIFT_REL = 1e-9
 
 
 @dataclass(frozen=True)
 class ShearSpectrum:
-    """Spectrum of ``D = -M^{-1} K`` (module docstring).
+    """Spectrum of ``D = -M^{-1} K`` (module docstring), whole or its soft end.
 
     Attributes
     ----------
     eigenvalues : ndarray of complex
-        All eigenvalues of D, sorted by real part.
+        ``dense``: all eigenvalues of D, sorted by real part; ``soft``: those
+        of the window, the same as ``softest``.
     n_complex_pairs : int
-        Conjugate pairs with ``|Im lambda| > IMAG_TOL * max |lambda|``.
+        Conjugate pairs with ``|Im lambda| > IMAG_TOL * spectral_radius``
+        (``soft``: among the window).
     max_growth_rate : float
-        ``max |Re sqrt(-lambda)|`` over all eigenvalues (1/time).
+        ``max |Re sqrt(-lambda)|`` (1/time) (``soft``: over the window).
     lowest_real_eigenvalue : float
-        Smallest real part among the eigenvalues counted as real (NaN if none).
+        Smallest real part among the eigenvalues counted as real, 0 included
+        when ``n_null > 0`` (NaN if none).
     symmetric : bool
         Whether K is symmetric to 1e3 eps of its largest entry.
     n_sliding, n_rolling : int
         Touching contacts with the tangential (rolling) history on its cap.
+    route : str
+        ``"dense"`` or ``"soft"`` (:data:`ROUTES`).
+    softest : ndarray of complex
+        The k eigenvalues of smallest modulus beside the exact zeros of the
+        null dof, sorted by modulus (:func:`softest`).
+    n_null : int
+        Degrees of freedom with a zero column or row of K (each an exact zero eigenvalue).
+    spectral_radius : float
+        ``max |lambda|`` (``soft``: the ARPACK estimate, to :data:`RADIUS_TOL`).
+    fallback : str
+        ``soft`` only: why ARPACK gave way to the dense eigenvalues ("" if it did not).
     """
 
     eigenvalues: np.ndarray
@@ -93,6 +155,11 @@ class ShearSpectrum:
     symmetric: bool
     n_sliding: int = 0
     n_rolling: int = 0
+    route: str = "dense"
+    softest: np.ndarray = None
+    n_null: int = 0
+    spectral_radius: float = float("nan")
+    fallback: str = ""
 
 
 def clamped_system(law, law_params, radius, mass, inertia, kind, lx, skin=None):
@@ -176,31 +243,113 @@ def _recorded_branch(system, state, target, flags):
         h[np.ix_(spurious, idx)] *= 1.0 - CAP_REL
 
 
-def spectrum(system, state):
-    """Spectrum of ``D = -M^{-1} K`` of one state (walls clamped): a :class:`ShearSpectrum`."""
-    n_dof = system.dof * int(system.free.sum())
-    if n_dof == 0:
+def softest(eigenvalues, k):
+    """The ``k`` eigenvalues of smallest modulus, sorted by modulus.
+
+    A conjugate pair split by the edge is kept whole: ``k + 1`` values.
+    """
+    w = np.asarray(eigenvalues, complex)
+    w = w[np.argsort(np.abs(w), kind="stable")]
+    if k < len(w) and w[k - 1].imag != 0 and w[k] == np.conj(w[k - 1]):
+        k += 1
+    return w[:k]
+
+
+def check_window(k, name="k"):
+    """``k`` as an int >= 1 (the soft window), or ParameterError naming ``name``."""
+    if isinstance(k, bool) or not isinstance(k, (int, np.integer)) or k < 1:
+        raise ParameterError(f"{name} must be an integer >= 1, got {k!r}")
+    return int(k)
+
+
+def _stiffness(system, state):
+    """``K`` (CSC), whether it is symmetric, the mask of null dof, the generalized masses."""
+    if system.dof * int(system.free.sum()) == 0:
         raise ParameterError("the state has no bulk particle (family 0)")
-    if n_dof > MAX_DENSE_DOF:
-        raise ParameterError(f"{n_dof} degrees of freedom exceed the dense route "
-                             f"(MAX_DENSE_DOF = {MAX_DENSE_DOF})")
     system.project(state)
     _, k = jacobian(system, state)
-    kd = k.toarray()
-    check_finite("stiffness entry", kd, item="row")     # LAPACK would refuse it unnamed
-    big = np.abs(kd).max() if kd.size else 0.0
-    symmetric = bool(np.abs(kd - kd.T).max() <= 1e3 * np.finfo(float).eps * big) if big else True
-    minv = 1.0 / system.gmass[system.free, :system.dof].ravel()
-    lam = scipy.linalg.eigvals(-minv[:, None] * kd)
-    lam = lam[np.argsort(lam.real, kind="stable")]
-    radius_d = np.abs(lam).max() if lam.size else 0.0
-    is_complex = np.abs(lam.imag) > IMAG_TOL * radius_d
+    k = k.tocsc()
+    if not np.isfinite(k.data).all():          # LAPACK, ARPACK would refuse it unnamed
+        check_finite("stiffness entry", k.toarray(), item="row")
+    big = abs(k).max() if k.nnz else 0.0
+    symmetric = bool(abs(k - k.T).max() <= 1e3 * np.finfo(float).eps * big) if big else True
+    a = abs(k)
+    null = (np.asarray(a.sum(axis=0)).ravel() == 0) | (np.asarray(a.sum(axis=1)).ravel() == 0)
+    return k, symmetric, null, system.gmass[system.free, :system.dof].ravel()
+
+
+def _result(state, lam, window, radius, symmetric, n_null, route, fallback=""):
+    """The statistics over ``lam`` (dense: all; soft: the window), ``window`` the k softest."""
+    is_complex = np.abs(lam.imag) > IMAG_TOL * radius
     growth = np.abs(np.sqrt(-lam.astype(complex)).real)
     real = lam.real[~is_complex]
+    if n_null:
+        real = np.append(real, 0.0)
     flag = state.contacts.flag     # 0 for a listed pair that does not touch
     return ShearSpectrum(
         eigenvalues=lam, n_complex_pairs=int(is_complex.sum() // 2),
         max_growth_rate=float(growth.max()) if growth.size else 0.0,
         lowest_real_eigenvalue=float(real.min()) if real.size else float("nan"),
         symmetric=symmetric, n_sliding=int(((flag & 1) != 0).sum()),
-        n_rolling=int(((flag & 2) != 0).sum()))
+        n_rolling=int(((flag & 2) != 0).sum()), route=route, softest=window, n_null=n_null,
+        spectral_radius=float(radius), fallback=fallback)
+
+
+def _eigvals_dense(k, mass):
+    """Every eigenvalue of ``-diag(mass)^-1 k``, sorted by real part."""
+    n_dof = k.shape[0]
+    if n_dof > MAX_DENSE_DOF:
+        raise ParameterError(f"{n_dof} degrees of freedom exceed the dense route "
+                             f"(MAX_DENSE_DOF = {MAX_DENSE_DOF}); use the soft route")
+    lam = scipy.linalg.eigvals(-k.toarray() / mass[:, None])
+    return lam[np.argsort(lam.real, kind="stable")]
+
+
+def spectrum(system, state, k=SOFT_K):
+    """Whole spectrum of ``D = -M^{-1} K`` of one state (walls clamped): a :class:`ShearSpectrum`.
+
+    Its ``softest`` holds the window of the ``k`` softest, as the soft route reports it.
+    """
+    k = check_window(k)
+    kk, symmetric, null, mass = _stiffness(system, state)
+    lam = _eigvals_dense(kk, mass)
+    n_null = int(null.sum())
+    radius = np.abs(lam).max() if lam.size else 0.0
+    window = softest(lam[np.argsort(np.abs(lam), kind="stable")][n_null:], k)
+    return _result(state, lam, window, radius, symmetric, n_null, "dense")
+
+
+def soft_spectrum(system, state, k=SOFT_K, tol=SOFT_TOL):
+    """The ``k`` softest eigenvalues of ``D`` by shift-invert ARPACK: a :class:`ShearSpectrum`.
+
+    Module docstring: what the window can and cannot report, its error, and
+    the dense fallback when ARPACK fails (recorded in ``fallback``).
+    """
+    k = check_window(k)
+    if not (math.isfinite(tol) and tol >= 0):
+        raise ParameterError(f"tol must be a finite number >= 0, got {tol!r}")
+    kk, symmetric, null, mass = _stiffness(system, state)
+    keep = np.flatnonzero(~null)
+    kk, mass = kk[keep][:, keep], mass[keep]
+    n, fallback = len(keep), ""
+    if n == 0:
+        lam, radius = np.zeros(0, complex), 0.0
+    elif k + 2 >= n - 1:            # ARPACK needs k < n - 1: small enough for dense
+        lam = _eigvals_dense(kk, mass)
+        radius = np.abs(lam).max()
+    else:
+        w = scipy.sparse.diags(1.0 / np.sqrt(mass))
+        s = (-(w @ kk @ w)).tocsc()     # similar to D, but as normal as K is symmetric
+        v0 = np.random.default_rng(0).standard_normal(n)      # reproducible Krylov start
+        try:
+            radius = float(np.abs(scipy.sparse.linalg.eigs(
+                s, k=1, which="LM", tol=RADIUS_TOL, v0=v0,
+                return_eigenvectors=False)).max())
+            lam = scipy.sparse.linalg.eigs(s, k=k + 2, sigma=-SHIFT_REL * radius, which="LM",
+                                           tol=tol, v0=v0, return_eigenvectors=False)
+        except RuntimeError as exc:   # ArpackError (no convergence), splu: exactly singular
+            fallback = f"{type(exc).__name__}: {exc}".strip()
+            lam = _eigvals_dense(kk, mass)
+            radius = np.abs(lam).max()
+    window = softest(lam, k)
+    return _result(state, window, window, radius, symmetric, len(null) - n, "soft", fallback)

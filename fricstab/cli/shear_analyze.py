@@ -1,12 +1,15 @@
 """``fricstab shear analyze|export``: analyses, slip spectra and OVITO export of a shear run.
 
-``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra]``
+``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra] [--spectra R]``
     D2min, GR regions, phases and Spearman tables of the frames in DIR
     (:func:`fricstab.analysis.shear.analyze`), then the spectrum of the
     Jacobian before each slip (:func:`fricstab.analysis.shear_slips.slip_spectra`)
     with the law and parameters the run recorded in ``shear.json`` (so no
-    ``--law`` here: the histories of the frames belong to that law); writes
-    ``analysis.json``, ``analysis.npz``, ``analysis.md`` and figures.
+    ``--law`` here: the histories of the frames belong to that law): by
+    default its soft end (the k softest eigenvalues, shift-invert ARPACK;
+    ``--spectra-k K``), ``--spectra dense`` the whole spectrum.  Writes ``analysis.json`` (its
+    ``slip_spectra`` says which route and what the statistics run over),
+    ``analysis.npz``, ``analysis.md`` and figures.
 ``fricstab shear export --out DIR [--format extxyz|lammps] [--every K] [--force]``
     The frames for OVITO (:func:`fricstab.io.export.frames_to_ovito`).
 """
@@ -52,8 +55,15 @@ def add_analyze_parsers(s):
     a.add_argument("--force", action="store_true", help="overwrite analysis.json/.npz")
     a.add_argument("--no-progress", action="store_true", help="no progress bar")
     a.add_argument("--no-spectra", action="store_true",
-                   help="skip the Jacobian spectrum before each slip (costs one dense "
-                        "eigenvalue problem of dof x bulk disks per slip)")
+                   help="skip the Jacobian spectrum before each slip")
+    a.add_argument("--spectra", choices=("soft", "dense"), default="soft",
+                   help="soft (default): the k softest eigenvalues before each slip by "
+                        "shift-invert ARPACK (pairs and growth rates among those k); dense: "
+                        "the whole spectrum (pairs over all of it; one dense eigenvalue "
+                        "problem of dof x bulk disks per slip, ~20x slower on the quick run)")
+    a.add_argument("--spectra-k", type=int, default=None, metavar="K",
+                   help="the window of softest eigenvalues (default 50); trade: ARPACK cost "
+                        "grows ~ K, the statistics see more of the spectrum")
     e = s.add_parser("export", help="write the frames of a run for OVITO")
     e.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
     e.add_argument("--format", choices=("extxyz", "lammps"), default="extxyz",
@@ -75,8 +85,10 @@ def analyze(ns, argv):
     gamma0 = params["gamma0"] if ns.gamma0 is None else ns.gamma0
     if not (math.isfinite(gamma0) and gamma0 >= 0):
         raise ParameterError(f"--gamma0 must be a finite number >= 0, got {gamma0!r}")
-    setting = {"gamma0": gamma0, "spectra": not ns.no_spectra,
-               "run": run.get("fingerprint", {}).get("sha256")}
+    from fricstab.analysis.shear_spectrum import SOFT_K, check_window
+    k = SOFT_K if ns.spectra_k is None else check_window(ns.spectra_k, "--spectra-k")
+    setting = {"gamma0": gamma0, "spectra": None if ns.no_spectra else ns.spectra,
+               "spectra_k": k, "run": run.get("fingerprint", {}).get("sha256")}
     rd = ResultDir(out, "analysis", force=ns.force, outputs=("analysis.npz",),
                    fingerprint=setting).create()
     with rd.stage("analyze"):
@@ -86,7 +98,8 @@ def analyze(ns, argv):
         from fricstab.analysis.shear_slips import slip_spectra
         with rd.stage("slip spectra"):
             spectra = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], params,
-                                   progress=not ns.no_progress and sys.stderr.isatty())
+                                   progress=not ns.no_progress and sys.stderr.isatty(),
+                                   route=ns.spectra, k=k)
         numbers["slip_spectra"] = spectra.summary()
         arrays.update(spectra.arrays())
     rd.write_npz("analysis.npz", **arrays)
@@ -94,8 +107,10 @@ def analyze(ns, argv):
     doc = rd.finish(numbers, parameters={**setting, "run_dir": str(out)}, argv=argv)
     s = doc.get("summary", {})
     sp = doc.get("slip_spectra")
-    extra = (f"; {sp['slips_with_complex_pairs']} of {sp['n_slips']} slips follow a state "
-             f"with complex pairs" if sp else "")
+    among = f"among its {sp['k']} softest modes" if sp and sp["route"] == "soft" else ""
+    extra = (f"; slip spectra ({sp['route']}): {sp['slips_with_complex_pairs']} of "
+             f"{sp['n_slips']} slips follow a state with complex pairs {among}".rstrip()
+             if sp else "")
     print(f"analysis: {s.get('n_phases')} phases in {s.get('n_steps')} steps{extra}; wrote "
           f"{out}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
     return 0
@@ -118,7 +133,8 @@ def _analysis_outputs(rd, frames, res, numbers, arrays):
     sp = numbers.get("slip_spectra")
     if sp:
         c = sp["correlations_with_following_dtau_p"]
-        text += ["", tables_markdown({"all slips": {k: [{"lo": -1.0, "hi": 0.0, **v}]
+        text += ["", f"Spectra ({sp['route']} route): statistics over {sp['statistics_over']}.",
+                 "", tables_markdown({"all slips": {k: [{"lo": -1.0, "hi": 0.0, **v}]
                                                     for k, v in c["all"].items()},
                                       "binned by Delta tau_p": c["binned"]},
                                      "Jacobian before each slip against its Delta tau_p")]
@@ -144,7 +160,7 @@ def _analysis_outputs(rd, frames, res, numbers, arrays):
                                                                           frames.n_frames))))
     if sp:
         rd.write_png("analysis_slip_spectra.png",
-                     lambda path: sf.fig_slip_spectra(arrays, path))
+                     lambda path: sf.fig_slip_spectra(arrays, path, sp))
 
 
 def export(ns):

@@ -299,15 +299,18 @@ def fig_shear_run(strain, tau, phases_from, path=None):
     return finish(fig, path, dpi=130)
 
 
-def fig_slip_spectra(a, path=None):
+def fig_slip_spectra(a, path=None, sp=None):
     """``analysis_slip_spectra.png``: complex pairs and growth rate of J before each slip.
 
     ``a``: arrays ``slip_dtau_p`` (< 0), ``slip_n_complex_pairs``,
-    ``slip_max_growth_rate`` (1/s), one entry per slip.
+    ``slip_max_growth_rate`` (1/s), one entry per slip; ``sp``: the spectra
+    record (``route``, ``k``), named in the title.
     """
     d = np.asarray(a.get("slip_dtau_p", []))
     fig, ax = plt.subplots(1, 2, figsize=(8, 3.4), constrained_layout=True)
-    fig.suptitle("Jacobian before each slip", fontsize=10)
+    where = ("" if sp is None else ": whole spectrum (dense)" if sp.get("route") == "dense"
+             else f": the {sp.get('k')} softest modes (shift-invert ARPACK)")
+    fig.suptitle("Jacobian before each slip" + where, fontsize=10)
     scale, unit = si_scale(a.get("slip_max_growth_rate", []), "s", -1)
     for axis, key, label, f in ((ax[0], "slip_n_complex_pairs", "complex pairs [-]", 1.0),
                                 (ax[1], "slip_max_growth_rate",
