@@ -295,33 +295,3 @@ def test_every_figure_writes_a_png(tmp_path):
         assert path.stat().st_size > 2000, name
     with pytest.raises(ParameterError, match="step k=0"):
         sf.fig_d2min_map(f, 0, tmp_path / "x.png")
-
-
-@pytest.mark.parametrize("seed", range(6))
-def test_dbscan_gives_sklearns_labels(seed):
-    """Random clouds, ties at eps included (integer grid), several min_samples."""
-    from sklearn.cluster import DBSCAN
-    rng = np.random.default_rng(seed)
-    pts = rng.integers(0, 12, size=(int(rng.integers(1, 60)), 2)).astype(float)
-    dist = np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))
-    for eps in (1.0, 2.0, 3.5):
-        for m in (1, 2, 3, 5):
-            ref = DBSCAN(eps=eps, min_samples=m, metric="precomputed").fit(dist).labels_
-            assert sa.dbscan(dist, eps, m).tolist() == ref.tolist()
-
-
-@pytest.mark.parametrize("seed", range(4))
-def test_spearman_cell_equals_scipy(seed):
-    """rho and p as scipy.stats.spearmanr (ties included): the same arithmetic
-    (ranks, Pearson, Student t) in another order: rho to ~1e3 eps; p through
-    the Student tail, whose log slope ~n turns rho's rounding into ~n * 1e3 eps."""
-    from scipy.stats import spearmanr
-    rng = np.random.default_rng(seed)
-    n = int(rng.integers(3, 400))
-    x = rng.integers(0, 7, n) if seed % 2 else rng.normal(size=n)
-    y = 0.3 * x + rng.normal(size=n)
-    cell, ref = sa.spearman_cell(x, y), spearmanr(x, y)
-    assert cell["rho"] == pytest.approx(ref.statistic, rel=1e-12, abs=1e-13)
-    assert cell["p"] == pytest.approx(ref.pvalue, rel=1e-9, abs=1e-300)
-    assert sa.spearman_cell([1, 2, 3, 4], [2, 4, 6, 8]) | {"n": 0} == {
-        "n": 0, "rho": 1.0, "p": 0.0, "significant": True, "status": "ok"}

@@ -36,9 +36,7 @@ Conventions
   their particles (both ends, each once) are clustered by DBSCAN with
   eps = 5 r_p and ``min_samples=2`` on a periodic-in-x distance matrix.
   MATLAB's "at least 1 neighbour for a core point" equals sklearn's
-  ``min_samples=2`` because sklearn counts the point itself.  :func:`dbscan`
-  gives sklearn's labels (tested against it) without its per-call
-  validation, which cost half of ``shear analyze`` on a few points per step.
+  ``min_samples=2`` because sklearn counts the point itself.
 * Contact angle theta (Fig. 8d): angle between the x-axis and the contact
   force line, folded into (-pi/2, pi/2] so that it does not depend on which
   particle of the pair the force acts on; the paper's |theta| lies in
@@ -70,7 +68,7 @@ from fricstab.analysis.shear_phases import (PAPER_BINS, binned_spearman, find_ph
 from fricstab.errors import ParameterError
 
 __all__ = ["PAPER_BINS", "ShearAnalysis", "analyze", "binned_spearman", "contact_angle",
-           "d2min", "dbscan", "differential_forces", "find_phases", "gr_regions",
+           "d2min", "differential_forces", "find_phases", "gr_regions",
            "neighbour_pairs", "nonaffine_displacement", "particle_stress", "phase_metrics",
            "phase_summary", "rattler_mask", "spearman_cell", "step_metrics",
            "tables_markdown"]
@@ -243,6 +241,8 @@ def gr_regions(frames, k, eps, fraction=0.01, min_samples=2):
         ``labels`` (per particle, -1 noise), ``n_clusters``, ``abs_angle``
         (|theta| of the GR contacts), ``angle_mean``, ``angle_median``.
     """
+    from sklearn.cluster import DBSCAN
+
     if not 0 < fraction <= 1:
         raise ParameterError(f"gr_regions: fraction = {fraction} must lie in (0, 1]")
     df = differential_forces(frames, k)
@@ -262,36 +262,10 @@ def gr_regions(frames, k, eps, fraction=0.01, min_samples=2):
         d = p[:, None, :] - p[None, :, :]
         d[..., 0] = _min_image(d[..., 0], frames.lx)
         dist = np.hypot(d[..., 0], d[..., 1])
-        labels = dbscan(dist, eps, min_samples)
+        labels = DBSCAN(eps=eps, min_samples=min_samples, metric="precomputed").fit(dist).labels_
         out["labels"] = labels
         out["n_clusters"] = int(labels.max() + 1)
     return out
-
-
-def dbscan(dist, eps, min_samples):
-    """DBSCAN labels of a precomputed distance matrix, as sklearn's (``-1`` noise).
-
-    Neighbours: ``dist <= eps``, the point itself included; core points have
-    at least ``min_samples``; clusters are the connected core points,
-    numbered in the order of their first core point; a border point joins
-    the first cluster that reaches it (the lowest label among its core
-    neighbours), as sklearn's expansion in index order does.
-    """
-    from scipy.sparse.csgraph import connected_components
-    near = np.asarray(dist) <= eps
-    core = near.sum(axis=1) >= min_samples
-    labels = np.full(len(near), -1, np.int64)
-    idx = np.flatnonzero(core)
-    if len(idx):
-        _, comp = connected_components(near[np.ix_(idx, idx)], directed=False)
-        _, first = np.unique(comp, return_index=True)
-        rank = np.empty(len(first), np.int64)
-        rank[np.argsort(first)] = np.arange(len(first))
-        labels[idx] = rank[comp]
-        border = np.flatnonzero(~core & near[:, core].any(axis=1))
-        for b in border:
-            labels[b] = labels[idx[near[b, idx]]].min()
-    return labels
 
 
 def particle_stress(frames, k):
