@@ -34,7 +34,6 @@ unless ``--debug`` is given.
 import argparse
 import contextlib
 import io
-import json
 import math
 import os
 import platform
