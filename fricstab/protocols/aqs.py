@@ -44,7 +44,7 @@ from fricstab.engine import fire, jacobian, newton
 from fricstab.engine.newton import touching, translation_modes
 from fricstab.errors import ConvergenceError, ParameterError
 from fricstab.protocols.ramp import _match
-from fricstab.protocols.stepstrain import shear_stress
+from fricstab.protocols.stepstrain import affine_step, shear_stress
 from fricstab.scenes.packing_relax import singular_guard
 
 __all__ = ["AQSResult", "Event", "MAX_STEP", "ZERO_CLUSTER", "check_strain", "pairs",
@@ -120,9 +120,7 @@ def relax_step(system, prev, dgamma, f_tol, where="", use_fire=False):
     Newton first (unless ``use_fire``); FIRE and a Newton polish if it fails.
     Raises :class:`ConvergenceError` naming ``where`` when neither converges.
     """
-    affine = prev.copy()
-    affine.q[:, 0] += dgamma * affine.q[:, 1]
-    affine.shift = prev.shift + dgamma * system.ly
+    affine = affine_step(system, prev, dgamma)
     if not use_fire:
         s = affine.copy()
         try:

@@ -46,7 +46,7 @@ from fricstab.engine import newton
 from fricstab.engine.newton import touching
 from fricstab.errors import ConvergenceError, ParameterError
 
-__all__ = ["ConvergenceError", "StepStrain", "relax", "shear_stress", "step_strain", "strain"]
+__all__ = ["ConvergenceError", "StepStrain", "affine_step", "relax", "shear_stress", "step_strain", "strain"]
 
 
 def shear_stress(system, state):
@@ -96,10 +96,19 @@ def strain(system, state, dgamma, f_tol=1e-14, max_iter=50):
     result : NewtonResult
         The relaxation's residual, iterations and convergence.
     """
+    s = affine_step(system, state, dgamma)
+    return s, relax(system, s, f_tol, max_iter)
+
+
+def affine_step(system, state, dgamma):
+    """A copy of ``state`` after the affine step ``x += dgamma y`` at frozen history.
+
+    The Lees-Edwards offset grows by ``dgamma L_y`` (Ishima Eqs. 10-11).
+    """
     s = state.copy()
     s.q[:, 0] += dgamma * s.q[:, 1]
     s.shift = state.shift + dgamma * system.ly
-    return s, relax(system, s, f_tol, max_iter)
+    return s
 
 
 @dataclass(frozen=True)
