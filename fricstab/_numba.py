@@ -22,26 +22,78 @@ whose ``prange`` loops share the engine's work among threads
 ``hot_jit`` function over a range, so the reference counting of the
 parallel region costs once per chunk, not per contact.
 
-The threads of those loops wait passively between parallel regions
-(``OMP_WAIT_POLICY=PASSIVE`` unless the environment says otherwise, set here
-before numba starts its OpenMP pool): by default OpenMP's idle threads spin,
-and on a machine whose cores run other jobs a spinning thread takes the core
-from the thread that has the work.  Measured on the project's 2-core machine
-under load: an empty parallel region cost 1,950 us spinning, 7.5 us passive
-(numba's workqueue layer: 30 us).
+The threads of those loops spin for a short while after a parallel region
+and then sleep (``GOMP_SPINCOUNT=10000`` unless the environment sets it or
+``OMP_WAIT_POLICY``, set here before numba starts its OpenMP pool).  The
+engine meets its threads a few times a step, microseconds apart: a sleeping
+thread takes ~7.7 us to wake, a spinning one ~1 us (measured on the project's
+2-core machine, idle).  OpenMP's default spins 30 times longer, and on a
+machine whose cores run other jobs a spinning thread takes the core from the
+thread that has the work (measured under load: an empty parallel region cost
+1,950 us with the default, 7.5 us never spinning); a bounded spin costs at
+most ~0.1 ms per region there, and a busy machine runs the engine on one
+thread anyway (:func:`fricstab.engine.parallel.busy`).
+
+numba's on-disk cache keys a function on its own source file only: a change
+in a function it calls from another file (an inlined kernel, the overlap
+correction) leaves the caller's cached machine code stale.
+:func:`purge_stale_cache` guards against that: at import it hashes every
+``.py`` file of the package and, when the hash differs from the one stored
+with the cache, deletes the package's cached numba code (it is recompiled on
+first use).
 
 ``hot_inline_jit`` adds numba's IR inlining, for the tiny functions called per
 contact (the law-id dispatch, the separation of a pair): a call with ~40
 scalar arguments costs ~15 ns per contact, as much as half a contact law.
 """
 
+import hashlib
 import os
+from pathlib import Path
 
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")   # before numba loads its OpenMP pool
+if "OMP_WAIT_POLICY" not in os.environ:   # before numba loads its OpenMP pool
+    os.environ.setdefault("GOMP_SPINCOUNT", "10000")
 
 import numba  # noqa: E402
 
-__all__ = ["hot_inline_jit", "hot_jit", "kernel_jit", "threads_jit"]
+__all__ = ["hot_inline_jit", "hot_jit", "kernel_jit", "purge_stale_cache", "threads_jit"]
+
+PACKAGE = Path(__file__).resolve().parent
+_STAMP = "fricstab-sources.sha256"
+
+
+def purge_stale_cache(root=PACKAGE):
+    """Delete the cached numba code under ``root`` if any source file changed since it was cached.
+
+    Returns the number of cache files deleted.  A read-only install is left
+    alone (numba then caches elsewhere, keyed by the installed files, which
+    do not change).
+    """
+    sources = sorted(root.rglob("*.py"))
+    digest = hashlib.sha256()
+    for path in sources:
+        digest.update(str(path.relative_to(root)).encode())
+        digest.update(path.read_bytes())
+    stamp = root / "__pycache__" / _STAMP
+    try:
+        if stamp.read_text() == digest.hexdigest():
+            return 0
+    except OSError:
+        pass
+    removed = 0
+    try:
+        for path in root.rglob("__pycache__/*"):
+            if path.suffix in (".nbi", ".nbc"):
+                path.unlink()
+                removed += 1
+        stamp.parent.mkdir(exist_ok=True)
+        stamp.write_text(digest.hexdigest())
+    except OSError:   # not writable: nothing of ours is cached here
+        pass
+    return removed
+
+
+purge_stale_cache()
 
 kernel_jit = numba.njit(cache=True, error_model="numpy")
 

@@ -46,3 +46,35 @@ def test_overlap_from_a_known_distance_is_the_same_to_the_bit(ri, ratio, phi, lo
     dist = float(np.sqrt(dx * dx + dy * dy))
     naive = ri + rj - dist
     assert overlap_correction_at(dx, dy, ri, rj, naive, dist) == overlap_correction(dx, dy, ri, rj, naive)
+
+
+_SPLIT = 134217729.0  # 2^27 + 1
+
+
+def _dekker_product(a, b):
+    """Dekker's exact product without FMA (Veltkamp splitting): the reference."""
+    p = a * b
+    c = _SPLIT * a
+    a_hi = c - (c - a)
+    a_lo = a - a_hi
+    c = _SPLIT * b
+    b_hi = c - (c - b)
+    b_lo = b - b_hi
+    return p, ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo
+
+
+@given(a=st.floats(-1e150, 1e150).filter(lambda x: x == 0 or abs(x) > 1e-140),
+       b=st.floats(-1e150, 1e150).filter(lambda x: x == 0 or abs(x) > 1e-140))
+def test_fused_exact_product_is_dekkers_to_the_bit(a, b):
+    """The FMA product error equals the FMA-free one: both are the exact a b - fl(a b).
+
+    Away from overflow and underflow (|a b| < 1e300, |a|, |b| > 1e-140) the
+    error of a product is a double, unique, and both algorithms return it
+    exactly: no tolerance.
+    """
+    from fricstab._numerics import _two_prod
+    p, e = _two_prod(a, b)
+    p_ref, e_ref = _dekker_product(a, b)
+    assert (p, e) == (p_ref, e_ref)
+    with mpmath.workdps(700):
+        assert mpmath.mpf(a) * mpmath.mpf(b) == mpmath.mpf(p) + mpmath.mpf(e)

@@ -67,10 +67,11 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
     box[2] = shift
     box[3] = 0.0
     box[4] = 0.0
+    no = n < 0   # False, but not a literal constant: one compiled advance_pass for both callers
     for it in range(it0, stop + 1):
         bad = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
                                     box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, new,
-                                    dof, meas, False, False, fcon, live, pstart, pidx, work, errs)
+                                    dof, meas, no, no, fcon, live, pstart, pidx, work, errs)
         if bad >= 0:
             sv[0], sv[1], sv[2] = dt, chi, n_pos
             return it, BAD_LAW, float(bad)

@@ -11,22 +11,24 @@ One step of the contacts is two loops, each shared among the threads by a
    contact order, from a list built once per contact list (:func:`workspace`).
 
 That order is the order in which one serial loop over the contacts scattering
-into i and j adds them, so every thread count gives the serial result to the
-bit, and a run resumed from a checkpoint (``--resume``) stays bit-identical
-whatever ``--threads`` either part ran with.
+into i and j adds them (what the pass does on one thread, in one loop), so
+every thread count gives the serial result to the bit, and a run resumed from
+a checkpoint (``--resume``) stays bit-identical whatever ``--threads`` either
+part ran with.  The integrator's half kicks and drift are per particle and
+share the particles the same way (:mod:`fricstab.engine.verlet`): four
+parallel regions a step.
 
 The thread count is numba's (``NUMBA_NUM_THREADS``, all cores by default;
 :func:`set_threads` sets it at run time, ``fricstab --threads N``).  A system
-below :data:`PARALLEL_MIN` particles runs both loops on one thread: there
-the cost of waking the threads twice a step exceeds the work (the chain has
-10 disks and ~20 contacts, ~1 us a step).  Left at its default (no
+below :data:`PARALLEL_MIN` particles runs on one thread: there the cost of
+meeting the threads four times a step exceeds the work (the chain has 10
+disks and ~20 contacts, ~1 us a step).  Left at its default (no
 :func:`set_threads`), a run also stays on one thread when the machine is busy
-(:func:`busy`): the threads meet twice a step, and a core taken by another job
-delays every meeting.  Measured on the project's 2-core machine with other
-jobs running: packing N = 1,024, two threads 7.0e6-7.2e6 particle-steps/s
-against one thread's 8.0e6-9.0e6 (threads waiting passively,
-:mod:`fricstab._numba`; spinning, as OpenMP does by default, two threads ran
-10-100x slower than one).  An explicit count is always used.
+(:func:`busy`): a core taken by another job delays every meeting (measured on
+the project's 2-core machine with other jobs running: packing N = 1,024, two
+threads 0.6e6-7e6 particle-steps/s against one thread's 8e6-9e6).  An
+explicit count is always used.  The threads spin briefly between regions
+(:mod:`fricstab._numba`).
 """
 
 import os
@@ -105,10 +107,11 @@ def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, 
     An exception cannot leave a thread of a parallel region (numba reports a
     SystemError after it); the caller raises it again outside the threads.
     """
-    try:
+    try:   # no scatter: hi < lo is False, and not a literal constant (which would
+        #        compile another specialization of the pass)
         passes.advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
                              box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work,
-                             want_out)
+                             want_out, fcon, hi < lo)
     except Exception:  # noqa: BLE001 - numba catches every exception or none
         return lo
     return -1
@@ -136,8 +139,9 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
     """One dynamics step of every contact at ``q``; forces into ``f`` (``ext`` first).
 
     ``box`` as in :func:`~fricstab.engine.passes.advance_range`; the scratch
-    ``fcon .. errs`` is :func:`workspace`'s.  With one chunk both loops run
-    here, on the calling thread, and a kernel's exception propagates; with
+    ``fcon .. errs`` is :func:`workspace`'s.  With one chunk the contacts
+    scatter their forces as they go (the same sums as the gather, one pass),
+    on the calling thread, and a kernel's exception propagates; with
     several, returns the first contact of the first chunk where a kernel
     raised, or -1 (the caller raises the law's error again:
     :func:`fricstab.engine.verlet.law_error`).  ``meas[0:2]``: the summed
@@ -153,10 +157,15 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
                 bad = errs[t]
                 break
     else:
-        passes.advance_range(0, ci.shape[0], law, p, pw, walls, q, dq, v, radius, rscale, mdamp,
+        for a in range(q.shape[0]):
+            for b in range(3):
+                f[a, b] = ext[a, b]
+        # lo = 0 and scatter = True as variables, not literal constants: numba would
+        # compile another specialization of the pass for them
+        k = ci.shape[0]
+        passes.advance_range(k - k, k, law, p, pw, walls, q, dq, v, radius, rscale, mdamp,
                              idamp, box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof,
-                             work[0], want_out)
-        passes.gather_range(0, q.shape[0], ext, fcon, live, pstart, pidx, dof, f)
+                             work[0], want_out, f, k >= 0)
     if track_driven:
         passes.driven_force(ci, cj, live, fcon, family, meas)
     else:
