@@ -31,6 +31,8 @@ point ``delta < 4 (R_i + R_j)/e^2``.  In closed form ``lam = -W_{-1}(-e^{-B})``
 """
 
 import numpy as np
+from numba import types
+from numba.extending import overload
 
 from fricstab._numba import kernel_jit
 
@@ -99,8 +101,8 @@ def overlap_correction_at(dx, dy, ri, rj, naive, r):
 #: reweighted least squares towards minimax) to ``lam - 1`` from Lambert W
 #: (mpmath, 30 digits) on 3,200 points of ``1 < B <= 50``: there
 #: ``|lam_0 - lam| <= 1.9e-10 (lam - 1)`` (tests/test_lee_hurley.py checks it
-#: on a denser grid); for ``50 < B < 746`` (overlaps below 1e-20 of the radius)
-#: ``<= 2e-6 (lam - 1)``.
+#: with 4 eps for the rounding of ``1 + p P/Q``); for ``50 < B < 746`` (overlaps
+#: below 1e-20 of the radius) ``<= 1e-6 (lam - 1)``.
 _START_P = (0.9437952775552002, 0.3828234693460676, 0.07931520096951943,
             0.007781402799398173, 0.0002097403559440087)
 _START_Q = (0.6104619511368012, 0.15155829746184796, 0.015542486393208915,
@@ -113,9 +115,12 @@ _START_FIT_B = 50.0
 def _lambda_start(b):
     """``lam_0`` of :func:`cylinder_lambda` for ``B = b > 1`` (see ``_START_P``)."""
     p = np.sqrt(2.0 * (b - 1.0))
-    num = 1.0 + p * (_START_P[0] + p * (_START_P[1] + p * (_START_P[2] + p * (
-        _START_P[3] + p * _START_P[4]))))
-    den = 1.0 + p * (_START_Q[0] + p * (_START_Q[1] + p * (_START_Q[2] + p * _START_Q[3])))
+    p2 = p * p
+    p4 = p2 * p2
+    # Estrin's scheme: three dependent steps instead of Horner's five
+    num = (1.0 + _START_P[0] * p) + p2 * (_START_P[1] + _START_P[2] * p) \
+        + p4 * (_START_P[3] + _START_P[4] * p)
+    den = (1.0 + _START_Q[0] * p) + p2 * (_START_Q[1] + _START_Q[2] * p) + p4 * _START_Q[3]
     return 1.0 + p * num / den
 
 
@@ -130,14 +135,15 @@ def cylinder_lambda(delta, ri, rj):
     converges quadratically, ``e' = e^2 h''/(2 h') = e^2/(2 lam (lam - 1))``:
     after one step the error is below 2e-20 (lam - 1)/lam, far below an ulp,
     so one step is made and no stopping test is needed (two for B > 50,
-    where the start is within 2e-6 (lam - 1)).  The step is the only
+    where the start is within 1e-6 (lam - 1)).  The step is the only
     logarithm besides B's; the old start ``2 B`` needed about five.  Last,
     the derivative in the inputs' own arithmetic: for complex inputs (a
     complex step ``delta + i h``) ``lam + lam/(lam - 1) (B_z - B)`` with
     ``B_z - B = i Im ln q = (q - Re q)/Re q + O(h^3)``, ``q = 4 (R_i + R_j)/delta``,
     so ``Im lam = h d lam/d delta`` to first order (the Newton correction of
-    a converged real root); for real inputs ``q - Re q = 0`` and lam is
-    returned as solved, with no second logarithm of B.
+    a converged real root, without a second logarithm of B); for real inputs
+    ``B_z - B = 0`` and the compiled code returns lam as solved
+    (:func:`_complex_step`).
 
     A deterministic cold start on purpose: warm-starting from the contact's
     width at the previous step would make lam (to the last bit) depend on the
@@ -174,16 +180,37 @@ def cylinder_lambda(delta, ri, rj):
     lam -= (lam - np.log(lam) - b) * lam / (lam - 1.0)
     if b > _START_FIT_B:
         lam -= (lam - np.log(lam) - b) * lam / (lam - 1.0)
-    # The derivative for a complex step: zero correction for real inputs.
+    return _complex_step(lam, ri, rj, delta)
+
+
+def _complex_step(lam, ri, rj, delta):
+    """``lam + lam/(lam - 1) (B_z - B)`` (:func:`cylinder_lambda`).
+
+    In Python this general form; compiled by numba (:func:`_complex_step_typed`)
+    it is ``lam`` itself for real inputs, where ``B_z - B`` is exactly 0, so
+    no division is spent on it.
+    """
     q = 4.0 * (ri + rj) / delta
     return lam + lam * (q - q.real) / ((lam - 1.0) * q.real)
 
 
+@overload(_complex_step, jit_options={"error_model": "numpy"})
+def _complex_step_typed(lam, ri, rj, delta):
+    if isinstance(delta, types.Complex):
+        return _complex_step
+    return lambda lam, ri, rj, delta: lam
+
+
 @kernel_jit
 def contact_halfwidth(delta, ri, rj):
-    """Half-width ``a = 4 sqrt(R_i R_j) exp(-(lam + 1)/2)`` (see cylinder_lambda)."""
+    """Half-width ``a = 4 sqrt(R_i R_j) exp(-(lam + 1)/2) = sqrt(4 R* delta/lam)`` (cylinder_lambda).
+
+    The second form, as the generated kernels compute it
+    (symbolic.geometry.half_width): one square root, and a relative error e
+    of lam moves it by e/2 instead of e lam/2.
+    """
     lam = cylinder_lambda(delta, ri, rj)
-    return 4.0 * np.sqrt(ri * rj) * np.exp(-0.5 * (lam + 1.0))
+    return np.sqrt(4.0 * ri * rj * delta / ((ri + rj) * lam))
 
 
 def turning_overlap(ri, rj):

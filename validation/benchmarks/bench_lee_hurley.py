@@ -202,6 +202,69 @@ def measure(state_path, calls, repeats):
             "code": str(Path(fricstab.__file__).resolve().parent.parent)}
 
 
+def sample_inputs(n, seed):
+    """Seeded kernel arguments: both forms over every regime, and overlaps up to the turning point.
+
+    ``(pair (n, 10), wall (n, 9), width (n, 3))``: the proofs' sampler
+    (fricstab.laws.verify_lee_hurley.sample_cases: delta/R 1e-12 .. 0.1, the
+    end points with probability 0.15, stick and slide on both caps), and
+    ``(delta, Ri, Rj)`` for the width alone with ``delta`` from 1e-15 R to
+    within 1e-12 of the turning point ``4 (Ri + Rj)/e^2`` (past delta/R ~ 0.3
+    Lai's k_t has no positive denominator, so the kernels stop short of it).
+    """
+    from fricstab._numerics import turning_overlap
+    from fricstab.laws.verify_lee_hurley import case_inputs, sample_cases
+
+    pair = [case_inputs(c) for c in sample_cases(n, seed)]
+    wall = [case_inputs(c, law="lee_hurley_wall")
+            for c in sample_cases(n, seed + 1, law="lee_hurley_wall")]
+    rng = np.random.default_rng(seed)
+    ri, rj = np.full(n, 0.5), 0.5 * np.exp(rng.uniform(np.log(0.2), np.log(5.0), n))
+    near = turning_overlap(ri, rj) * (1.0 - 10.0 ** rng.uniform(-12.0, -0.3, n))
+    small = np.minimum(ri, rj) * 10.0 ** rng.uniform(-15.0, -1.0, n)
+    width = np.column_stack([np.where(np.arange(n) % 2 == 0, near, small), ri, rj])
+    return np.array(pair), np.array(wall), width
+
+
+def kernel_values(pair, wall, width):
+    """Forces, blocks and lam of the code on sys.path at the given arguments."""
+    from fricstab._numerics import cylinder_lambda
+    from fricstab.generated import lee_hurley as gen
+    from fricstab.generated import lee_hurley_wall as gen_wall
+
+    out = {}
+    for name, kernel, args, nq in (("pair", gen.lee_hurley_force_jacobian, pair, 6),
+                                   ("wall", gen_wall.lee_hurley_wall_force_jacobian, wall, 3)):
+        f, jac = np.empty((len(args), nq)), np.empty((len(args), nq, nq))
+        for k, a in enumerate(args):
+            kernel(*a, f[k], jac[k])
+        out[name + "_f"], out[name + "_jac"] = f, jac
+    out["lam"] = np.array([cylinder_lambda(*w) for w in width])
+    return out
+
+
+def _round_off(new, old, width):
+    """Max relative changes: force (of the contact's largest component), block (row-relative), lam."""
+    eps = np.finfo(float).eps
+    rows = []
+    for form in ("pair", "wall"):
+        f, f0 = new[form + "_f"], old[form + "_f"]
+        df = np.abs(f - f0).max(axis=1) / np.abs(f0).max(axis=1)
+        j, j0 = new[form + "_jac"], old[form + "_jac"]
+        scale = np.abs(j0).max(axis=2)
+        dj = np.abs(j - j0).max(axis=2) / np.where(scale > 0, scale, 1.0)
+        rows.append([f"`lee_hurley{'_wall' if form == 'wall' else ''}`", str(len(f)),
+                     f"{df.max():.1e} ({df.max() / eps:.0f} eps)",
+                     f"{dj.max():.1e} ({dj.max() / eps:.0f} eps)", ""])
+    lam, lam0 = new["lam"], old["lam"]
+    rel = np.abs(lam - lam0) / lam0
+    cond = rel * (lam0 - 1.0)  # in units of the conditioning 1/(lam - 1)
+    rows.append(["`cylinder_lambda`", str(len(lam)), "", "",
+                 f"{rel.max():.1e} ({rel.max() / eps:.1f} eps); x (lam - 1): "
+                 f"{cond.max() / eps:.1f} eps"])
+    return rows
+
+
 def _peak():
     """(GHz, cores, scalar and AVX2 peak GFLOP/s per core) of this machine (Zen 2 assumed)."""
     ghz = 0.0
@@ -212,8 +275,8 @@ def _peak():
     return ghz, os.cpu_count(), 4 * ghz, 16 * ghz
 
 
-def _against(rev, state_path, calls, repeats):
-    """Run :func:`measure` on the code of git revision ``rev`` in a subprocess."""
+def _against(rev, state_path, calls, repeats, inputs):
+    """:func:`measure` and :func:`kernel_values` (at ``inputs``, an npz) of revision ``rev``."""
     src = Path(tempfile.gettempdir()) / f"fricstab_bench_lee_hurley_{rev}"
     if not src.exists():
         src.mkdir()
@@ -224,10 +287,15 @@ def _against(rev, state_path, calls, repeats):
     code = (f"import sys, json; sys.path.insert(0, {str(HERE)!r}); "
             "import bench_lee_hurley as b; "
             f"sys.path[:] = [{str(src)!r}] + [p for p in sys.path if p != str(b.ROOT)]; "
+            f"z = b.np.load({str(inputs)!r}); "
+            f"b.np.savez({str(inputs) + '.old.npz'!r}, **b.kernel_values(z['pair'], z['wall'], "
+            "z['width'])); "
             f"print(json.dumps(b.measure(b.Path({str(state_path)!r}), {calls}, {repeats})))")
     out = subprocess.run([sys.executable, "-c", code], check=True, cwd=str(src),
                          capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    with np.load(str(inputs) + ".old.npz") as z:
+        old = {k: z[k] for k in z.files}
+    return json.loads(out.strip().splitlines()[-1]), old
 
 
 def main(argv=None):
@@ -237,12 +305,20 @@ def main(argv=None):
                                            / "fricstab_bench_lee_hurley_quick.npz"))
     ap.add_argument("--calls", type=int, default=200)
     ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--cases", type=int, default=2000,
+                    help="seeded contacts per form for the round-off comparison (--against)")
     ns = ap.parse_args(argv)
     state_path = Path(ns.state)
-    results = []
+    results, change = [], []
     now = measure(state_path, ns.calls, ns.repeats)
     if ns.against:
-        results.append((ns.against, _against(ns.against, state_path, ns.calls, ns.repeats)))
+        with tempfile.TemporaryDirectory() as tmp:
+            inputs = Path(tmp) / "inputs.npz"
+            pair, wall, width = sample_inputs(ns.cases, 16)
+            np.savez(inputs, pair=pair, wall=wall, width=width)
+            timed, old = _against(ns.against, state_path, ns.calls, ns.repeats, inputs)
+        results.append((ns.against, timed))
+        change = _round_off(kernel_values(pair, wall, width), old, width)
     results.append(("this tree", now))
     for label, r in results:
         print(f"{label}: fricstab from {r['code']}", file=sys.stderr)
@@ -272,7 +348,20 @@ def main(argv=None):
          + (f" --against {ns.against}`" if ns.against else "`")],
         ["code", "advance_range ns / listed contact", "cylinder_lambda ns / call",
          "log / touching contact", "exp", "sqrt", "flops", "GFLOP/s (of scalar / AVX2 peak)"],
-        rows)
+        rows, notes=_change_table(ns, change))
+
+
+def _change_table(ns, change):
+    """Markdown lines of the round-off comparison (empty without --against)."""
+    if not change:
+        return []
+    return [f"## Round-off change against {ns.against}", "",
+            f"Seeded sample (seed 16, {ns.cases} contacts per form, `sample_inputs`): the "
+            "largest change of the forces relative to the contact's largest component, of "
+            "the Jacobian block relative to its row's largest entry, and of lam (relative; "
+            "times lam - 1, the scale of the tests' tolerance 64 eps/(lam - 1)).", "",
+            "| kernel | contacts | force | Jacobian | lam |", "|---|---|---|---|---|",
+            *["| " + " | ".join(r) + " |" for r in change]]
 
 
 if __name__ == "__main__":
