@@ -29,6 +29,7 @@ __all__ = [
     "WallGeometry",
     "chain_diff",
     "expand_geometry",
+    "half_width",
 ]
 
 
@@ -125,7 +126,11 @@ class CylinderPairGeometry:
       ``lam - ln lam = ln(4 (R_i + R_j)/delta) - 1`` (the generated code calls
       ``fricstab._numerics.cylinder_lambda``); implicit differentiation gives
       ``d lam/d delta = -lam / ((lam - 1) delta)``;
-    * ``hw = a = 4 sqrt(R_i R_j) exp(-(lam + 1)/2)``, the contact half-width.
+    * ``hw = a``, the contact half-width, ``4 sqrt(R_i R_j) exp(-(lam + 1)/2)``
+      by the definition of lam, computed as ``sqrt(4 R* delta/lam)`` (Eq. A2
+      solved for a, ``R* = R_i R_j/(R_i + R_j)``): the same number at the
+      root, one square root and no exponential, and better conditioned (a
+      relative error e of lam moves it by e/2, not by e lam/2).
 
     :meth:`intermediates` defines ``lam`` in closed form through the lower
     branch of Lambert W, ``lam = -W_{-1}(-e delta/(4 (R_i + R_j)))``, so that
@@ -153,7 +158,7 @@ class CylinderPairGeometry:
             (self.ny, self.dy / self.r),
             (self.delta, ri + rj - self.r),
             (self.lam, -sp.LambertW(-sp.E * self.delta / (4 * (ri + rj)), -1)),
-            (self.hw, 4 * sp.sqrt(ri * rj) * sp.exp(-(self.lam + 1) / 2)),
+            (self.hw, half_width(ri, rj, self.delta, self.lam)),
         ]
 
     def partials(self):
@@ -184,7 +189,8 @@ class CylinderWallGeometry:
       ``lam - ln lam = ln(4 (R + Rw)/delta) - 1``
       (``fricstab._numerics.cylinder_lambda(delta, R, Rw)``), with
       ``d lam/d delta = -lam / ((lam - 1) delta)`` and ``d delta/dy = -1``;
-    * ``hw = a = 4 sqrt(R Rw) exp(-(lam + 1)/2)``.
+    * ``hw = a = 4 sqrt(R Rw) exp(-(lam + 1)/2) = sqrt(4 R* delta/lam)``
+      (computed in the second form, as :class:`CylinderPairGeometry`).
     """
 
     def __init__(self):
@@ -200,7 +206,7 @@ class CylinderWallGeometry:
         return [
             (self.delta, r - self.y),
             (self.lam, -sp.LambertW(-sp.E * self.delta / (4 * (r + rw)), -1)),
-            (self.hw, 4 * sp.sqrt(r * rw) * sp.exp(-(self.lam + 1) / 2)),
+            (self.hw, half_width(r, rw, self.delta, self.lam)),
         ]
 
     def partials(self):
@@ -211,6 +217,17 @@ class CylinderWallGeometry:
             self.lam: {self.y: dlam},
             self.hw: {self.y: -self.hw * dlam / 2},
         }
+
+
+def half_width(r1, r2, delta, lam):
+    """Hertz-cylinder half-width ``a = sqrt(4 R* delta/lam)``, ``R* = R_1 R_2/(R_1 + R_2)``.
+
+    Eq. A2, ``delta = a^2 lam/(4 R*)``, solved for ``a``: equal to
+    ``4 sqrt(R_1 R_2) exp(-(lam + 1)/2)`` where lam solves it.  Kept as one
+    square root (SymPy would split the root of a product of positive symbols
+    into five).
+    """
+    return sp.Pow(4 * r1 * r2 * delta / ((r1 + r2) * lam), sp.Rational(1, 2), evaluate=False)
 
 
 def chain_diff(expr, geometry, dbase):

@@ -390,21 +390,37 @@ _RW_DOC = ("wall radius of curvature: contact width and stiffnesses of cylinders
 
 
 def lai_penalty(x, nu):
-    """Lai's penalty factor ``w(a/R)`` (Lee & Hurley Eq. A9), exact rationals."""
+    """Lai's penalty factor ``w(a/R)`` (Lee & Hurley Eq. A9), exact rationals.
+
+    ``0.22 + 2.89 x + 0.18 nu - 10.31 x^2 + 1.75 x nu + 0.36 nu^2``, written
+    in Horner form in ``x`` (the generated code evaluates it as written).
+    """
     r = sp.Rational
-    return (r(22, 100) + r(289, 100) * x + r(18, 100) * nu - r(1031, 100) * x**2
-            + r(175, 100) * x * nu + r(36, 100) * nu**2)
+    return (r(22, 100) + r(18, 100) * nu + r(36, 100) * nu**2
+            + x * (r(289, 100) + r(175, 100) * nu - r(1031, 100) * x))
 
 
 def _lee_hurley_springs(g, r1, r2):
-    """k_n (A2), F_n^e, Lai's k_t (A8, A9) with its denominator, k_r (A15) and R_r (A16)."""
+    """k_n (A2), F_n^e, Lai's k_t (A8, A9) with its denominator, k_r (A15) and R_r (A16).
+
+    Lai's logarithms come from lam, which is already
+    ``ln(4 R_1/a) + ln(4 R_2/a) - 1``, and ``a = 4 sqrt(R_1 R_2) exp(-(lam + 1)/2)``:
+    ``ln(4 R_1/a) = (lam + 1 + ln(R_1/R_2))/2``, ``ln(4 R_2/a) = (lam + 1 - ln(R_1/R_2))/2``
+    and ``ln(2 R_1/a) + ln(2 R_2/a) = lam + 1 - 2 ln 2``: one logarithm, of the
+    radii only, instead of four of the width.  Identities at the root, so
+    every kernel (force, Jacobian, increment, advance, both forms) uses the
+    same law; k_t has no derivative in the hypoelastic Jacobian.
+    """
     lam, hw = g.lam, g.hw
     kn = sp.pi * _E / lam
     fn = kn * g.delta
     lai = _nu / (2 * (1 - _nu))
-    denom = (sp.log(2 * r1 / hw) + sp.log(2 * r2 / hw) + 1
-             + lai_penalty(hw / r1, _nu) * (sp.log(4 * r1 / hw) + lai)
-             + lai_penalty(hw / r2, _nu) * (sp.log(4 * r2 / hw) + lai))
+    log_ratio = sp.log(r1 / r2)
+    log4_1 = (lam + 1 + log_ratio) / 2   # ln(4 R_1/a)
+    log4_2 = (lam + 1 - log_ratio) / 2   # ln(4 R_2/a)
+    denom = (lam + 2 - 2 * sp.log(2)
+             + lai_penalty(hw / r1, _nu) * (log4_1 + lai)
+             + lai_penalty(hw / r2, _nu) * (log4_2 + lai))
     kt = sp.pi * _E / denom
     rr = r1 * r2 / (r1 + r2)
     kr = sp.pi * _E * rr**2 / 4

@@ -2,8 +2,8 @@
 
 Error models behind the tolerances
 ----------------------------------
-* Contact width (cylinder_lambda): Newton to |step| <= 2 eps lam, then one
-  correction; the backward error |delta(a) - delta|/delta is a few eps times
+* Contact width (cylinder_lambda): a fitted start and one Newton step (the
+  start's error is checked below); the backward error |delta(a) - delta|/delta is a few eps times
   the terms of ``a^2 lam/(4 R*)`` (lam <= 40): bound 64 eps.  The forward
   error of lam against Lambert W is the backward error times the condition
   number ``1/(lam - 1)`` (lam -> 1 at the turning point).
@@ -87,6 +87,36 @@ def test_cylinder_width_is_monotonic_with_complex_step_derivative(ratio):
         # the complex correction step is exact to O(h^2); rounding of its terms
         # grows with the conditioning 1/(lam - 1)
         assert abs(cs - exact) <= 64 * EPS * abs(exact) / min(1.0, lam - 1)
+
+
+def test_width_start_leaves_one_newton_step():
+    """The fitted start of cylinder_lambda against Lambert W, and what one Newton step leaves.
+
+    Error model: the fit's own error (1.83e-10 (lam - 1) at most on its 3,200
+    points; 2e-10 allows for the points between) plus the rounding of
+    ``1 + p P/Q`` (4 eps absolute, what dominates as lam -> 1).  Newton's error
+    after one step is ``e^2/(2 lam (lam - 1))``: below 1e-19 lam here, far
+    under the rounding of the step itself.  Beyond the fit (B > 50, overlaps
+    below 1e-20 R) the start is within 1e-6 (lam - 1) and two steps are made.
+    """
+    from fricstab._numerics import _START_FIT_B, _lambda_start
+
+    bs = np.concatenate([1.0 + np.logspace(-15, 0, 150), np.linspace(2.0, _START_FIT_B, 400)])
+    with mpmath.workdps(30):
+        for b in bs:
+            lam = -mpmath.lambertw(-mpmath.exp(-mpmath.mpf(b)), -1).real
+            e0 = float(abs(_lambda_start(b) - lam))
+            assert e0 <= 2e-10 * float(lam - 1) + 4 * EPS, b
+            assert e0 ** 2 / (2 * float(lam * (lam - 1))) <= 1e-19 * float(lam), b
+        for b in np.linspace(_START_FIT_B, 745.0, 60):
+            lam = -mpmath.lambertw(-mpmath.exp(-mpmath.mpf(b)), -1).real
+            assert abs(_lambda_start(b) - lam) <= 1e-6 * (lam - 1), b
+    # two steps beyond the fit: at lam >> 1 the rounding of B (eps B) and of the
+    # step (eps lam) bound the error: 4 eps relative
+    ri, rj = 0.5, 0.7
+    for delta in (1e-25, 1e-100, 1e-300):
+        ref = -mpmath.lambertw(-mpmath.e * mpmath.mpf(delta) / (4 * (ri + rj)), -1).real
+        assert abs(cylinder_lambda(delta, ri, rj) - ref) / ref <= 4 * EPS
 
 
 def test_beyond_the_turning_point_raises():

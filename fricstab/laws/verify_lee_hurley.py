@@ -9,9 +9,9 @@ on the flat wall y = 0 (``lee_hurley_wall``, args
 
 * complex step through the generated force kernel compiled for complex128
   (``h = 1e-20 L``), which differentiates through the Newton solver of the
-  contact width (:func:`fricstab._numerics.cylinder_lambda`, whose last step
-  runs in complex arithmetic) and through the caps (the branch is chosen on
-  real parts);
+  contact width (:func:`fricstab._numerics.cylinder_lambda`, whose final
+  correction runs in complex arithmetic for complex inputs) and through the
+  caps (the branch is chosen on real parts);
 * float64 central differences at the best step of a sweep;
 * central differences of the generated force source in 50-digit arithmetic
   (``mpmath``), with the contact width from Lambert W (an independent

@@ -155,9 +155,14 @@ def packing_dynamics():
 def shear_spectrum():
     """Spectrum of the stored stick state (a history on its cap is on the slide branch).
 
-    The stored histories come from the run's own units (no rounding), so the
-    generated kernels' ``>=`` puts those exactly on a cap on the slide branch
-    without the frames' CAP_REL move (fricstab.analysis.shear_spectrum).
+    The stored histories were put on their caps by the kernels of the run,
+    to the bit; kernels that compute the cap differently at round-off (the
+    contact-width solve of issue 16 moves lam by an ulp) would put a few of
+    them an ulp inside it.  So the recorded branch is restored as for a
+    frame (flags, CAP_REL; fricstab.analysis.shear_spectrum): a history is
+    on its cap where ``|ft| = mu_s F_n`` (``|mr| = mu_r R_r F_n``) with the
+    stored elastic normal force, to 1e-12 relative; in this state those
+    ratios are 1 to 1 ulp and every other is at least 5e-3 from 1.
     """
     from fricstab.analysis.shear_spectrum import clamped_system, recorded_state, spectrum
     with np.load(SHEAR_STATE) as z:
@@ -166,8 +171,12 @@ def shear_spectrum():
            "mur": float(s["mur"])}
     system = clamped_system("lee_hurley", law, s["radius"], s["mass"], s["inertia"], s["kind"],
                             float(s["lx"]))
+    ri, rj = (s["radius"][s["contacts"][:, k]] for k in (0, 1))
+    on_t = np.abs(s["ft"]) >= law["mus"] * s["fn"] * (1.0 - 1e-12)
+    on_r = np.abs(s["mr"]) >= law["mur"] * ri * rj / (ri + rj) * s["fn"] * (1.0 - 1e-12)
     state = recorded_state(system, s["pos"], s["angle"], s["contacts"],
-                           np.column_stack([s["ft"], s["mr"]]))
+                           np.column_stack([s["ft"], s["mr"]]),
+                           flags=on_t.astype(np.int64) + 2 * on_r.astype(np.int64))
     spec = spectrum(system, state)
     w = spec.eigenvalues
     return {"n_sliding": float(spec.n_sliding), "n_rolling": float(spec.n_rolling),
