@@ -11,6 +11,7 @@ import copy
 import functools
 import json
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -150,12 +151,12 @@ def test_a_law_refusing_an_overlap_on_a_thread_stops_the_run_with_one_line(threa
 def test_the_default_count_stays_serial_on_a_busy_machine_and_an_explicit_one_is_used(
         monkeypatch):
     monkeypatch.setattr(parallel, "_explicit", False)
-    monkeypatch.setattr(parallel, "busy", lambda: True)
+    monkeypatch.setattr(parallel, "busy", lambda threads=None: True)
     assert parallel.chunks(10_000) == 1
-    monkeypatch.setattr(parallel, "busy", lambda: False)
+    monkeypatch.setattr(parallel, "busy", lambda threads=None: False)
     assert parallel.chunks(10_000) == parallel.available_threads()
     assert parallel.chunks(parallel.PARALLEL_MIN - 1) == 1
-    monkeypatch.setattr(parallel, "busy", lambda: True)
+    monkeypatch.setattr(parallel, "busy", lambda threads=None: True)
     parallel.set_threads(parallel.available_threads())
     assert parallel.chunks(10_000) == parallel.available_threads()
 
@@ -175,3 +176,30 @@ def test_the_threads_option_of_the_command():
         assert main(["--threads", "1", "laws"]) == EXIT_OK
     finally:
         parallel.set_threads(top)
+
+
+def test_busy_counts_other_jobs_not_this_process(monkeypatch):
+    """busy: the load average minus this process's own use, against the cores left free."""
+    monkeypatch.setattr(parallel.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(parallel.os, "getloadavg", lambda: (2.0, 2.0, 2.0))
+    monkeypatch.setattr(parallel, "own_load", lambda: 1.9)   # the load is our own two threads
+    assert not parallel.busy(2)
+    monkeypatch.setattr(parallel, "own_load", lambda: 0.0)   # another job holds both cores
+    assert parallel.busy(2)
+    monkeypatch.setattr(parallel.os, "getloadavg", lambda: (1.0, 1.0, 1.0))
+    assert parallel.busy(2)          # one core taken: two threads would wait for it
+    assert not parallel.busy(1)      # one thread has the other core
+
+
+def test_own_load_follows_this_process_cpu_use():
+    """Busy work for 1.2 s raises own_load from its value before by a weighted share of a core."""
+    parallel.own_load()
+    start = time.perf_counter()
+    before = parallel._own[2]
+    x = 0.0
+    while time.perf_counter() - start < 1.2:
+        x += 1.0
+    after = parallel.own_load()
+    # one core busy for span s moves the estimate by (1 - exp(-s/60)) (1 - before), s >= 1.2:
+    # at least 0.5 of that (the process may be descheduled on a loaded machine)
+    assert after - before >= 0.5 * (1.0 - np.exp(-1.2 / 60.0)) * (1.0 - before) - 1e-12

@@ -32,6 +32,7 @@ explicit count is always used.  The threads spin briefly between regions
 """
 
 import os
+import time
 
 import numba
 import numpy as np
@@ -41,8 +42,8 @@ from fricstab._numba import hot_jit, threads_jit
 from fricstab.engine import passes
 from fricstab.errors import ParameterError
 
-__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "set_threads",
-           "workspace"]
+__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "own_load",
+           "set_threads", "workspace"]
 
 #: Particles below which the dynamics pass stays on one thread (measured:
 #: docs/concepts/performance.md).
@@ -70,12 +71,37 @@ def set_threads(n):
     _explicit = True
 
 
-def busy():
-    """Whether other jobs hold the cores: 1-minute load average above the core count + 1/2."""
+_own = [time.perf_counter(), time.process_time(), 0.0]   # wall, CPU, this process's load
+
+
+def own_load():
+    """This process's recent CPU use in cores (busy threads), averaged over about a minute.
+
+    Updated at each call from the CPU time used since the last update (at
+    least a second earlier), with the 1-minute memory of the load average.
+    """
+    wall, cpu = time.perf_counter(), time.process_time()
+    span = wall - _own[0]
+    if span >= 1.0:
+        weight = 1.0 - np.exp(-span / 60.0)
+        _own[2] += weight * ((cpu - _own[1]) / span - _own[2])
+        _own[0], _own[1] = wall, cpu
+    return _own[2]
+
+
+def busy(threads=None):
+    """Whether other jobs hold the cores that ``threads`` threads need.
+
+    Other jobs' load = the 1-minute load average minus this process's own
+    recent use (:func:`own_load`); busy when it exceeds the cores left free
+    by ``threads`` (default numba's count) plus 1/2.
+    """
+    threads = numba.get_num_threads() if threads is None else threads
     try:
-        return os.getloadavg()[0] > (os.cpu_count() or 1) + 0.5
+        others = os.getloadavg()[0] - own_load()
     except (OSError, AttributeError):   # no load average on this platform
         return False
+    return others > (os.cpu_count() or 1) - threads + 0.5
 
 
 def chunks(n_particles):
@@ -86,7 +112,7 @@ def chunks(n_particles):
     The chunks change no bit of the result.
     """
     threads = numba.get_num_threads()
-    if n_particles < PARALLEL_MIN or threads == 1 or (not _explicit and busy()):
+    if n_particles < PARALLEL_MIN or threads == 1 or (not _explicit and busy(threads)):
         return 1
     return threads
 
