@@ -69,9 +69,10 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
     box[4] = 0.0
     no = n < 0   # False, but not a literal constant: one compiled advance_pass for both callers
     for it in range(it0, stop + 1):
-        bad = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
-                                    box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, new,
-                                    dof, meas, no, no, fcon, live, pstart, pidx, work, errs)
+        bad, _ = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
+                                       box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
+                                       new, dof, meas, no, no, fcon, live, pstart, pidx, work,
+                                       errs, gmass, 0.0, 1.0, no)   # no kick: FIRE's own (A6)
         if bad >= 0:
             sv[0], sv[1], sv[2] = dt, chi, n_pos
             return it, BAD_LAW, float(bad)

@@ -40,6 +40,7 @@ from numba import prange
 
 from fricstab._numba import hot_jit, threads_jit
 from fricstab.engine import passes
+from fricstab.engine.integrate import kick_range
 from fricstab.errors import ParameterError
 
 __all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "own_load",
@@ -145,7 +146,8 @@ def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, 
 
 @threads_jit
 def _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm,
-             ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs):
+             ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs,
+             ginv, family, half, implicit, kick):
     n_chunks = errs.shape[0]
     k = ci.shape[0]
     n = q.shape[0]
@@ -154,14 +156,17 @@ def _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, dam
                            v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm, ck, hist, flag,
                            cout, fcon, live, dof, work[t], want_out)
     for t in prange(n_chunks):
-        passes.gather_range(t * n // n_chunks, (t + 1) * n // n_chunks, ext, fcon, live, pstart,
-                            pidx, dof, f)
+        lo = t * n // n_chunks
+        hi = (t + 1) * n // n_chunks
+        passes.gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
+        if kick:
+            work[t, 6, 1] = kick_range(lo, hi, f, v, ginv, family, dof, half, implicit)
 
 
 @hot_jit
 def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj,
                  cm, ck, hist, flag, cout, ext, family, f, dof, meas, want_out, track_driven,
-                 fcon, live, pstart, pidx, work, errs):
+                 fcon, live, pstart, pidx, work, errs, ginv, half, implicit, kick):
     """One dynamics step of every contact at ``q``; forces into ``f`` (``ext`` first).
 
     ``box`` as in :func:`~fricstab.engine.passes.advance_range`; the scratch
@@ -172,16 +177,30 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
     raised, or -1 (the caller raises the law's error again:
     :func:`fricstab.engine.verlet.law_error`).  ``meas[0:2]``: the summed
     contact force on driven particles (family 2) if ``track_driven``.
-    Finiteness is the caller's check, on the summed forces.
+
+    With ``kick`` each particle's forces are followed at once by its second
+    half kick (:func:`~fricstab.engine.integrate.kick_range` with ``ginv``,
+    ``half``, ``implicit``), in the same loop over the particles.  Returns
+    ``(contact, particle)``: the contact whose kernel raised on a thread (or
+    -1), and the first free particle whose force is not finite (or -1; only
+    with ``kick``, otherwise finiteness is the caller's check).
     """
     bad = -1
-    if errs.shape[0] > 1:
+    bad_f = -1
+    n_chunks = errs.shape[0]
+    if n_chunks > 1:
         _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm,
-                 ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs)
-        for t in range(errs.shape[0]):
+                 ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs,
+                 ginv, family, half, implicit, kick)
+        for t in range(n_chunks):
             if errs[t] >= 0:
                 bad = errs[t]
                 break
+        if kick:
+            for t in range(n_chunks):
+                if work[t, 6, 1] >= 0.0:
+                    bad_f = int(work[t, 6, 1])
+                    break
     else:
         for a in range(q.shape[0]):
             for b in range(3):
@@ -192,9 +211,11 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
         passes.advance_range(k - k, k, law, p, pw, walls, q, dq, v, radius, rscale, mdamp,
                              idamp, box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof,
                              work[0], want_out, f, k >= 0)
+        if kick:
+            bad_f = kick_range(k - k, q.shape[0], f, v, ginv, family, dof, half, implicit)
     if track_driven:
         passes.driven_force(ci, cj, live, fcon, family, meas)
     else:
         meas[0] = 0.0
         meas[1] = 0.0
-    return bad
+    return bad, bad_f

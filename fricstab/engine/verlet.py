@@ -38,8 +38,9 @@ import numpy as np
 from numba import prange
 
 from fricstab import signals
-from fricstab._numba import hot_inline_jit, hot_jit, threads_jit
+from fricstab._numba import hot_jit, threads_jit
 from fricstab.engine import parallel
+from fricstab.engine.integrate import drift_range
 from fricstab.errors import NumericalError
 
 __all__ = ["Controls", "Run", "run"]
@@ -104,82 +105,6 @@ class Run:
     forces: np.ndarray = None
 
 
-@hot_inline_jit
-def _drift_body(lo, hi, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
-                affine, y_ref, scale):
-    far = 0.0
-    for i in range(lo, hi):
-        fam = family[i]
-        if fam == 0:
-            for b in range(dof):
-                v[i, b] += half * (f[i, b] * ginv[i, b] - nu * v[i, b])
-                dq[i, b] = dt * v[i, b]
-            if affine:
-                for b in range(3):
-                    dqh[i, b] = dq[i, b]
-                y_new = y_ref + (q[i, 1] + dq[i, 1] - y_ref) * scale
-                dq[i, 1] = y_new - q[i, 1]
-        elif fam == 2:
-            v[i, 0] = vx_drive
-            v[i, 1] = vy
-            v[i, 2] = 0.0
-            dq[i, 0] = dt * vx_drive
-            dq[i, 1] = dt * vy
-            dq[i, 2] = 0.0
-        else:
-            for b in range(3):
-                dq[i, b] = 0.0
-        if affine and fam != 0:
-            for b in range(3):
-                dqh[i, b] = dq[i, b]
-        for b in range(3):
-            q[i, b] += dq[i, b]
-        ex = q[i, 0] - ref[i, 0]
-        ey = q[i, 1] - ref[i, 1]
-        d2 = ex * ex + ey * ey
-        if not d2 < np.inf:
-            return far, i
-        far = max(far, d2)
-    return far, -1
-
-
-@hot_jit
-def drift_range(lo, hi, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
-                affine, y_ref, scale):
-    """First half kick and drift of particles ``lo .. hi - 1``: ``(far, bad)``.
-
-    ``far``: the largest squared distance from the reference positions of the
-    contact list; ``bad``: the first particle whose position is not finite,
-    or -1 (the particles after it are left undone).  Per particle, so the
-    particles may be shared among threads with the same result.  Compiled
-    with the dof as a constant for the common 3.
-    """
-    if dof == 3:
-        return _drift_body(lo, hi, q, v, f, dq, dqh, ginv, family, ref, 3, half, nu, dt,
-                           vx_drive, vy, affine, y_ref, scale)
-    return _drift_body(lo, hi, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive,
-                       vy, affine, y_ref, scale)
-
-
-@hot_inline_jit
-def _kick_body(lo, hi, f, v, ginv, family, dof, half, implicit):
-    for i in range(lo, hi):
-        if family[i] == 0:
-            for b in range(dof):
-                if not abs(f[i, b]) < np.inf:
-                    return i
-                v[i, b] = (v[i, b] + half * f[i, b] * ginv[i, b]) * implicit
-    return -1
-
-
-@hot_jit
-def kick_range(lo, hi, f, v, ginv, family, dof, half, implicit):
-    """Second half kick of particles ``lo .. hi - 1``: the first with a non-finite force, or -1."""
-    if dof == 3:
-        return _kick_body(lo, hi, f, v, ginv, family, 3, half, implicit)
-    return _kick_body(lo, hi, f, v, ginv, family, dof, half, implicit)
-
-
 @threads_jit
 def _drift_threads(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine,
                    y_ref, scale, work, errs):
@@ -193,23 +118,14 @@ def _drift_threads(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_dr
         errs[t] = bad
 
 
-@threads_jit
-def _kick_threads(f, v, ginv, family, dof, half, implicit, errs):
-    n_chunks = errs.shape[0]
-    n = f.shape[0]
-    for t in prange(n_chunks):
-        errs[t] = kick_range(t * n // n_chunks, (t + 1) * n // n_chunks, f, v, ginv, family, dof,
-                             half, implicit)
-
-
 @hot_jit
 def _drift(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine, y_ref,
            scale, work, errs):
     """:func:`drift_range` of every particle, on the workspace's chunks: ``(far, bad)``."""
     n_chunks = errs.shape[0]
     if n_chunks == 1:   # lo = n_chunks - 1 = 0: not a literal, so one compiled drift_range
-        return drift_range(n_chunks - 1, q.shape[0], q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt,
-                           vx_drive, vy, affine, y_ref, scale)
+        return drift_range(n_chunks - 1, q.shape[0], q, v, f, dq, dqh, ginv, family, ref, dof,
+                           half, nu, dt, vx_drive, vy, affine, y_ref, scale)
     _drift_threads(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine,
                    y_ref, scale, work, errs)
     far = 0.0
@@ -218,19 +134,6 @@ def _drift(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
             return far, errs[t]
         far = max(far, work[t, 6, 0])
     return far, -1
-
-
-@hot_jit
-def _kick(f, v, ginv, family, dof, half, implicit, errs):
-    """:func:`kick_range` of every particle, on the workspace's chunks."""
-    n_chunks = errs.shape[0]
-    if n_chunks == 1:   # lo = 0, not a literal (as in _drift)
-        return kick_range(n_chunks - 1, f.shape[0], f, v, ginv, family, dof, half, implicit)
-    _kick_threads(f, v, ginv, family, dof, half, implicit, errs)
-    for t in range(n_chunks):
-        if errs[t] >= 0:
-            return errs[t]
-    return -1
 
 
 @hot_jit
@@ -299,15 +202,15 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
                 return step, REBUILD, -1, frame, residual
         hq = dqh if affine else dq
         box[2] = shiftv[0]
-        bad = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp, idamp,
-                                    box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family, f,
-                                    dof, meas, step == n_steps - 1, n_drv > 0, fcon, live,
-                                    pstart, pidx, work, errs)
+        bad, bad_f = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp,
+                                           idamp, box, damp, ci, cj, cm, ck, hist, flag, cout,
+                                           ext, family, f, dof, meas, step == n_steps - 1,
+                                           n_drv > 0, fcon, live, pstart, pidx, work, errs, ginv,
+                                           half, implicit, n_drv >= 0)
         if bad >= 0:
             return step + 1, BAD_LAW, bad, frame, residual
-        bad = _kick(f, v, ginv, family, dof, half, implicit, errs)
-        if bad >= 0:
-            return step + 1, BAD_FORCE, bad, frame, residual
+        if bad_f >= 0:
+            return step + 1, BAD_FORCE, bad_f, frame, residual
         if tol > 0.0 and step % check_every == 0:
             residual = 0.0
             for i in range(n):
