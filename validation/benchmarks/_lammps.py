@@ -25,8 +25,9 @@ import numpy as np
 from fricstab.engine import Controls, run
 from fricstab.engine.parallel import available_threads, set_threads
 
-__all__ = ["LammpsMissing", "CHECK_HEADER", "check_forces", "executables", "lammps_forces", "lammps_throughput",
-           "load_lammps", "ours_throughput", "roundoff_tolerance", "write_data"]
+__all__ = ["CHECK_HEADER", "LammpsMissing", "check_forces", "executables", "lammps_forces",
+           "lammps_state", "lammps_throughput", "load_lammps", "ours_throughput",
+           "roundoff_tolerance", "write_data"]
 
 EPS = np.finfo(float).eps
 

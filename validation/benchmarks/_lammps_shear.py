@@ -39,7 +39,9 @@ granular`` with
   ``fix rigid single`` with the x force and all torques off (it keeps the x
   velocity V) under ``fix addforce`` of -N_target in total: a constant load on
   an inertial lid (the paper's lid mass, the sum of its disks), where ours
-  servoes the lid's velocity on the contact force; the lid disks enter the
+  servoes the lid's velocity on the contact force (``fix aveforce`` would give
+  every lid disk the same force, and disks of unequal mass would then leave
+  the row: ``fix rigid`` keeps it one body); the lid disks enter the
   dashpots with their own masses (ours: the lid's total mass); bulk ``fix
   nve/sphere disc`` (inertia m r^2 / 2, ours); dt, skin and neighbour check
   as ours.
@@ -78,7 +80,7 @@ TYPES = (1, 2, 3)     # LAMMPS atom types of our families 0 (bulk), 1 (bottom), 
 
 
 def prepared(n, seed=0):
-    """A :class:`ShearRun` of the quick preset with ``n`` bulk disks, prepared and sheared (cached)."""
+    """A :class:`ShearRun` of the quick preset, ``n`` bulk disks, prepared and sheared (cached)."""
     p = resolve_params(None, "quick", {"n": n, "seed": seed})
     key = hashlib.sha1(json.dumps(p, sort_keys=True).encode()).hexdigest()[:12]
     path = CACHE / f"shear_n{n}_s{seed}_f{SHEARED_FRAMES}_{key}.npz"
