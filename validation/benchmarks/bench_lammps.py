@@ -327,7 +327,9 @@ def time_scene(scene, n, steps, repeats, tmp):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="fewer steps and sizes (~3 minutes)")
+    ap.add_argument("--quick", action="store_true",
+                    help="fewer steps and sizes (~1-3 minutes once validation/.packings/ holds "
+                    "the packings and shear cells; building them first costs up to ~15)")
     ap.add_argument("--repeats", type=int, default=None)
     ap.add_argument("--scenes", default=",".join(SCENES),
                     help=f"comma-separated subset of {', '.join(SCENES)} (default all)")
@@ -422,11 +424,12 @@ def notes(repeats, work, seconds, shear):
         "velocity servo on the contact force); wall-wall pairs excluded in both. Both start "
         "from the same prepared, sheared state (LAMMPS with zero history); LAMMPS' cell then "
         "settles to its own law (its lid sinks by 0.11 mean radii, 0.3 % of the height, over "
-        "the first 8,000 steps and stays there, x velocity V to 1e-6; the timed runs are "
-        "shorter), while ours holds N within 0.3 % of its target." + coeffs,
+        "the first 8,000 steps and stays there, its x velocity V to 1e-6), while ours holds "
+        "N within 0.3 % of its target." + coeffs,
         f"{repeats} runs each, about {work:.0e} particle-steps per run; LAMMPS `Loop time`, "
         "ours `time.perf_counter` around `fricstab.engine.run` (compilation excluded). "
-        f"Total {seconds:.0f} s; load average at the end {os.getloadavg()[0]:.1f} on "
+        f"Total {seconds:.0f} s (with any packing or shear cell not yet cached in "
+        f"validation/.packings/); load average at the end {os.getloadavg()[0]:.1f} on "
         f"{os.cpu_count()} cores (other jobs running make the 2-core columns meaningless: each "
         "step our threads meet twice, LAMMPS' ranks exchange ghosts, and a core taken by "
         "another job stalls both)."]
