@@ -23,16 +23,19 @@ whose ``prange`` loops share the engine's work among threads
 parallel region costs once per chunk, not per contact.
 
 The threads of those loops spin for a short while after a parallel region
-and then sleep (``GOMP_SPINCOUNT=10000`` unless the environment sets it or
+and then sleep (``GOMP_SPINCOUNT=1000`` unless the environment sets it or
 ``OMP_WAIT_POLICY``, set here before numba starts its OpenMP pool).  The
-engine meets its threads a few times a step, microseconds apart: a sleeping
-thread takes ~7.7 us to wake, a spinning one ~1 us (measured on the project's
-2-core machine, idle).  OpenMP's default spins 30 times longer, and on a
-machine whose cores run other jobs a spinning thread takes the core from the
-thread that has the work (measured under load: an empty parallel region cost
-1,950 us with the default, 7.5 us never spinning); a bounded spin costs at
-most ~0.1 ms per region there, and a busy machine runs the engine on one
-thread anyway (:func:`fricstab.engine.parallel.busy`).
+engine meets its threads three times a step, microseconds apart: a sleeping
+thread takes ~7.7 us to wake, a spinning one ~1 us.  Measured on the
+project's 2-core machine, idle, two threads: packing N = 1,024 1.77e7
+particle-steps/s spinning (1,000, 10,000 or 100,000 spins alike) against
+1.31e7 never spinning (``OMP_WAIT_POLICY=PASSIVE``).  On a machine whose
+cores run other jobs a spinning thread takes the core from the thread that
+has the work (plane shear, two threads, load ~2: 0.85e6 particle-steps/s
+with 1,000 spins, 0.11e6 with 10,000, 3.2e6 passive, 4.3e6 on one thread),
+so a default run goes to one thread there
+(:func:`fricstab.engine.parallel.busy`); set ``OMP_WAIT_POLICY=PASSIVE`` to
+run explicit thread counts on a shared machine.
 
 numba's on-disk cache keys a function on its own source file only: a change
 in a function it calls from another file (an inlined kernel, the overlap
@@ -52,7 +55,7 @@ import os
 from pathlib import Path
 
 if "OMP_WAIT_POLICY" not in os.environ:   # before numba loads its OpenMP pool
-    os.environ.setdefault("GOMP_SPINCOUNT", "10000")
+    os.environ.setdefault("GOMP_SPINCOUNT", "1000")
 
 import numba  # noqa: E402
 

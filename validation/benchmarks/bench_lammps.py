@@ -431,7 +431,7 @@ def notes(repeats, work, seconds, shear):
         f"Total {seconds:.0f} s (with any packing or shear cell not yet cached in "
         f"validation/.packings/); load average at the end {os.getloadavg()[0]:.1f} on "
         f"{os.cpu_count()} cores (other jobs running make the 2-core columns meaningless: each "
-        "step our threads meet twice, LAMMPS' ranks exchange ghosts, and a core taken by "
+        "step our threads meet three times, LAMMPS' ranks exchange ghosts, and a core taken by "
         "another job stalls both)."]
 
 
