@@ -65,7 +65,11 @@ KNOBS = [
     ("eigen-solver route against time and error", "eigen.md", ""),
     ("system size against cost (scaling exponent)", "knobs_size.md", ""),
     ("kernel form (generated numba against lambdify), compile cache", "kernels.md", ""),
-    ("code: fricstab DEM against LAMMPS", "lammps.md", "forces first: lammps_forces.md"),
+    ("code: fricstab DEM against LAMMPS", "lammps.md",
+     "forces first: lammps_forces.md, lammps_forces_scenes.md"),
+    ("threads: 1 against 2 per scene", "engine.md", ""),
+    ("Lee & Hurley width solve and logs: ns per contact", "lee_hurley.md", ""),
+    ("slip spectra: soft end (k softest) against dense", "slip_spectra.md", ""),
 ]
 
 
