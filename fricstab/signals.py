@@ -26,10 +26,11 @@ _pending = []
 class Interrupted(Exception):
     """A run stopped on SIGINT or SIGTERM at a safe point (``exit_code`` 130 or 143)."""
 
-    def __init__(self, signum, where=""):
+    def __init__(self, signum, where="", step=None):
         name = "SIGTERM" if signum == signal.SIGTERM else "SIGINT"
         super().__init__(f"interrupted by {name}{where}")
         self.signum = signum
+        self.step = step   # the step of the interrupted call, where the caller counts steps
         self.exit_code = EXIT_SIGTERM if signum == signal.SIGTERM else EXIT_SIGINT
 
 
@@ -38,10 +39,10 @@ def pending():
     return _pending[0] if _pending else None
 
 
-def check(where=""):
+def check(where="", step=None):
     """Raise :class:`Interrupted` if a signal arrived (call between chunks of work)."""
     if _pending:
-        raise Interrupted(_pending[0], where)
+        raise Interrupted(_pending[0], where, step)
 
 
 def _handler(signum, frame):

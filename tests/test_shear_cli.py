@@ -3,6 +3,7 @@
 import json
 import os
 import random
+import re
 import signal
 import subprocess
 import sys
@@ -134,6 +135,9 @@ def test_signal_then_resume_is_bit_identical(tmp_path, uninterrupted, signum, co
     if signum != signal.SIGKILL:
         name = signal.Signals(signum).name
         assert err.count("\n") == 1 and f"interrupted by {name}" in err and "--resume" in err
+        # the step of the shear stage (after its first checkpoint), not of the engine call
+        step = re.search(r"at step (\d+)", err)
+        assert step and int(step.group(1)) > 0, err
         assert not (b / ".fricstab.lock").exists()
     assert not (b / "shear.json").exists() and list((b / "checkpoints").glob("ckpt_*.npz"))
     subprocess.run(_cmd(b, "--resume"), cwd=ROOT, check=True, timeout=600)

@@ -324,7 +324,7 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
     space = None
     while step < n_steps:
         if step >= end:   # a call or a chunk begins: the state is at a step boundary
-            signals.check(f" at step {step}")
+            signals.check(f" at step {step}", step)
             end = min(n_steps, step + chunk)
         if state.contacts is not c or space is None:
             c = state.contacts

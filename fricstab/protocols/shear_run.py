@@ -45,6 +45,7 @@ import numpy as np
 from fricstab.engine import Controls, State, run
 from fricstab.errors import ConvergenceError, NumericalError
 from fricstab.scenes.shear import HISTORY_UNITS
+from fricstab.signals import Interrupted
 
 __all__ = ["PREP_STAGE_STEPS", "ShearRun", "prepare"]
 
@@ -109,6 +110,8 @@ class ShearRun:
         try:
             out = run(self.system, self.state, self.dt, nsteps, self.controls,
                       forces=self.forces, meas=self.meas)
+        except Interrupted as exc:   # the same: name the step of the shear, not of the call
+            raise Interrupted(exc.signum, f" at step {step0 + (exc.step or 0)}") from None
         except NumericalError as exc:   # the engine counts the steps of this call
             step = step0 + (exc.step or 0)
             text = str(exc).replace(f"at step {exc.step}", f"at step {step}")
