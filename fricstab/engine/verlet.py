@@ -202,6 +202,8 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
                 return step, REBUILD, -1, frame, residual
         hq = dqh if affine else dq
         box[2] = shiftv[0]
+        # forces, then each particle's second half kick (kick = n_drv >= 0: True, and not a
+        # literal constant, which would compile another advance_pass beside FIRE's)
         bad, bad_f = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp,
                                            idamp, box, damp, ci, cj, cm, ck, hist, flag, cout,
                                            ext, family, f, dof, meas, step == n_steps - 1,
