@@ -145,3 +145,29 @@ def test_signal_then_resume_is_bit_identical(tmp_path, uninterrupted, signum, co
     assert ra.keys() == rb.keys()
     for k in ra:
         assert np.array_equal(ra[k], rb[k]), k
+
+
+def test_resume_with_a_larger_strain_extends_the_run(tmp_path, uninterrupted, capsys):
+    """The total strain only stops a run: --resume with a larger one continues the same
+    trajectory (the first frames and series equal the shorter uninterrupted run's to
+    the bit); one that the run has already passed is refused with exit 2."""
+    b = tmp_path / "b"
+    proc = subprocess.Popen(_cmd(b), cwd=ROOT, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 600
+    while not list((b / "checkpoints").glob("ckpt_*.npz")) and time.time() < deadline:
+        time.sleep(0.05)
+    assert proc.poll() is None, "run B ended before the kill; lengthen SMALL"
+    os.kill(proc.pid, signal.SIGTERM)
+    assert proc.communicate(timeout=60) and proc.returncode == 143
+    assert main(["shear", "run", "--out", str(b), "--quiet", "--no-progress", *SMALL,
+                 "--resume", "--strain", "1e-4"]) == 2
+    assert "past strain = 0.0001" in capsys.readouterr().err
+    subprocess.run(_cmd(b, "--resume", "--strain", "0.03"), cwd=ROOT, check=True, timeout=600)
+    ra, rb = _arrays(uninterrupted), _arrays(b)
+    chunks = [k for k in ra if k.startswith("chunk_") and not k.endswith(":header")]
+    assert len(chunks) > 10 and all(np.array_equal(ra[k], rb[k]) for k in chunks)
+    n = len(ra["shear.npz:tau"])
+    assert len(rb["shear.npz:tau"]) == 301 and n == 201
+    for k in (k for k in ra if k.startswith("shear.npz:")):
+        assert np.array_equal(ra[k], rb[k][:n]), k
+    assert json.loads((b / "shear.json").read_text())["parameters"]["strain"] == 0.03

@@ -19,7 +19,8 @@ SMALL = ["--n", "40", "--strain", "0.01", "--dgamma", "1e-5", "--gamma0", "0.002
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory):
     out = tmp_path_factory.mktemp("shear") / "run"
-    assert main(["shear", "run", "--out", str(out), "--quiet", "--no-progress", *SMALL]) == 0
+    assert main(["shear", "run", "--out", str(out), "--quiet", "--no-progress", *SMALL,
+                 "--checkpoint-every", "300"]) == 0    # four chunks, for --partial
     assert main(["shear", "analyze", "--out", str(out), "--no-progress"]) == 0
     return out
 
@@ -125,6 +126,30 @@ def test_export_loads_in_ovito(run_dir, capsys, ovito_io):
     assert data.particles.count == rec["derived"]["n_particles"]
 
 
+def test_partial_analysis_is_that_of_the_same_frames(run_dir, tmp_path, capsys):
+    """--partial reads a run without its record (interrupted) and gives the full analysis."""
+    part, dest = tmp_path / "run", tmp_path / "partial"
+    shutil.copytree(run_dir / "frames", part / "frames")
+    chunks = sorted((part / "frames").glob("chunk_*.npz"))
+    assert len(chunks) >= 3, "the small run writes one chunk; lower its checkpoint interval"
+    assert main(["shear", "analyze", "--out", str(part), "--partial", str(dest),
+                 "--no-progress"]) == 0
+    assert "partial: the first" in capsys.readouterr().out
+    with np.load(run_dir / "analysis.npz") as a, np.load(dest / "analysis.npz") as b:
+        assert set(a.files) == set(b.files)
+        for name in a.files:
+            np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+    rec = json.loads((dest / "analysis.json").read_text())
+    n_frames = frames_of(run_dir).n_frames
+    assert rec["parameters"]["frames"] == n_frames and not (part / "analysis.json").exists()
+    chunks[1].unlink()
+    for out, into, say in ((run_dir, tmp_path / "x", "is complete"), (part, part, "must differ"),
+                           (part, tmp_path / "y", "gap before chunk_000002")):
+        assert main(["shear", "analyze", "--out", str(out), "--partial", str(into)]) == 2
+        err = capsys.readouterr().err
+        assert say in err and err.strip().count("\n") == 0
+
+
 def test_analyze_without_a_run_is_bad_input(tmp_path, capsys):
     assert main(["shear", "analyze", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
@@ -142,7 +167,7 @@ def test_analyze_with_the_law_of_the_run(tmp_path, law):
     rec = json.loads((out / "analysis.json").read_text())
     frames = frames_of(out)
     assert frames.meta["law"] == law
-    assert frames.contact_hist.shape[1] == (0 if law == "hertz" else 2)
+    assert frames.n_history == (0 if law == "hertz" else 2)
     sp = rec["slip_spectra"]
     assert sp["n_slips"] == rec["summary"]["n_slip"] > 0
     with np.load(out / "analysis.npz") as z:

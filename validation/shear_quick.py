@@ -68,7 +68,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
         f"| bulk disks | {d['n_bulk']} | ~1,000 |",
         f"| I, kappa | {p['inertial_number']:g}, {p['kappa']:g} | 4e-6, 1e4 |",
         f"| output interval dgamma | {p['dgamma']:g} ({d['steps_per_frame']} steps) | 7.2e-7 |",
-        f"| total strain | {p['strain']:g} | ~0.094 |",
+        f"| total strain | {p['strain']:g} | ~0.116 (0.022 + 130,000 x 7.2e-7) |",
         f"| output steps in window (strain >= {p['gamma0']:g}) | {ph['window_steps']} | ~130,000 |",
         f"| phases (stick + slip) | {ph['n_phases']} ({ph['n_stick']} + {ph['n_slip']}) | ~42,000 |",
         f"| phases per output step | {ph['phases_per_step'] or 0:.3f} | {PAPER_PHASES_PER_STEP:.3f} |",

@@ -1,6 +1,6 @@
 """``fricstab shear analyze|export``: analyses, slip spectra and OVITO export of a shear run.
 
-``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra] [--spectra R]``
+``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra] [--spectra R] [--partial DIR2]``
     D2min, GR regions, phases and Spearman tables of the frames in DIR
     (:func:`fricstab.analysis.shear.analyze`), then the spectrum of the
     Jacobian before each slip (:func:`fricstab.analysis.shear_slips.slip_spectra`)
@@ -9,7 +9,12 @@
     default its soft end (the k softest eigenvalues, shift-invert ARPACK;
     ``--spectra-k K``), ``--spectra dense`` the whole spectrum.  Writes ``analysis.json`` (its
     ``slip_spectra`` says which route and what the statistics run over),
-    ``analysis.npz``, ``analysis.md`` and figures.
+    ``analysis.npz``, ``analysis.md`` and figures.  The frames are read a
+    chunk at a time (:class:`fricstab.io.frame_store.FrameStore`), so a run
+    larger than memory analyses in a few hundred MB.  ``--partial DIR2``
+    analyses what an interrupted or still running run has written so far
+    into DIR2, with the parameters its frames record; the record names the
+    frames and strain it covers.
 ``fricstab shear export --out DIR [--format extxyz|lammps] [--every K] [--force]``
     The frames for OVITO (:func:`fricstab.io.export.frames_to_ovito`).
 """
@@ -25,25 +30,38 @@ from fricstab.errors import ParameterError
 __all__ = ["add_analyze_parsers", "analyze", "export", "frames_of"]
 
 
-def frames_of(out):
-    """All frames of a complete run directory, concatenated (:class:`fricstab.io.frames.Frames`).
+def frames_of(out, partial=False):
+    """The frames of a run directory, read a chunk at a time (:class:`fricstab.io.frame_store.FrameStore`).
 
-    The run's record is checked first (:func:`fricstab.io.rundir.verify`): a
-    missing, damaged or foreign frame chunk, or an interrupted run, is refused
-    with one line naming it; the chunks read are those the record lists.
+    A complete run's record is checked first (:func:`fricstab.io.rundir.verify`):
+    a missing, damaged or foreign frame chunk, or an interrupted run, is
+    refused with one line naming it; the chunks read are those the record
+    lists.  ``partial``: the chunks an interrupted (or still running) run has
+    written so far, which must be ``chunk_000000`` onwards with no gap (each
+    is written whole, by rename, so a running run adds chunks but never
+    leaves half of one).
     """
     from fricstab.io import rundir
-    from fricstab.io.frames import Frames
+    from fricstab.io.frame_store import FrameStore
     out = Path(out).expanduser()
-    record = rundir.verify(out, "shear")
-    listed = record.get("files")
-    if isinstance(listed, dict):
-        files = [out / rel for rel in sorted(listed) if rel.startswith("frames/")]
-    else:   # a record from before manifests: the chunks on disk
+    if partial:
+        if (out / "shear.json").exists():
+            raise ParameterError(f"--partial: the run in {out} is complete; analyse it "
+                                 "without --partial")
         files = sorted((out / "frames").glob("chunk_*.npz"))
+        gap = [f.name for i, f in enumerate(files) if f.name != f"chunk_{i:06d}.npz"]
+        if gap:
+            raise ParameterError(f"--partial: {out}/frames has a gap before {gap[0]}")
+    else:
+        record = rundir.verify(out, "shear")
+        listed = record.get("files")
+        if isinstance(listed, dict):
+            files = [out / rel for rel in sorted(listed) if rel.startswith("frames/")]
+        else:   # a record from before manifests: the chunks on disk
+            files = sorted((out / "frames").glob("chunk_*.npz"))
     if not files:
         raise ParameterError(f"--out: no frames in {out}/frames (run `fricstab shear run`)")
-    return Frames.concat([Frames.load(f) for f in files])
+    return FrameStore(files)
 
 
 def add_analyze_parsers(s):
@@ -53,6 +71,10 @@ def add_analyze_parsers(s):
     a.add_argument("--gamma0", type=float, default=None,
                    help="start of the analysed window (default: the run's gamma0)")
     a.add_argument("--force", action="store_true", help="overwrite analysis.json/.npz")
+    a.add_argument("--partial", type=Path, default=None, metavar="DIR2",
+                   help="analyse the frames an interrupted or still running run has written "
+                        "so far, into DIR2 (the run's DIR is only read; its parameters come "
+                        "from the frames)")
     a.add_argument("--no-progress", action="store_true", help="no progress bar")
     a.add_argument("--no-spectra", action="store_true",
                    help="skip the Jacobian spectrum before each slip")
@@ -79,9 +101,22 @@ def analyze(ns, argv):
     from fricstab.io.results import ResultDir
     from fricstab.analysis.shear import analyze as analyze_frames
     out = Path(ns.out).expanduser()
-    frames = frames_of(out)    # checks the run's manifest first
-    run = json.loads((out / "shear.json").read_text())
-    params = run["parameters"]
+    partial = ns.partial is not None
+    if partial and Path(ns.partial).expanduser().resolve() == out.resolve():
+        raise ParameterError("--partial: DIR2 must differ from the run's DIR (the run "
+                             "may still be writing there)")
+    frames = frames_of(out, partial)    # checks the run's manifest first
+    if partial:
+        from fricstab.io import rundir
+        params = frames.meta.get("scene")
+        if not isinstance(params, dict) or "law" not in params:
+            raise ParameterError(f"--partial: the frames in {out} do not record the run's "
+                                 "parameters (written before fricstab.io.frames/2?)")
+        run = {"fingerprint": rundir.fingerprint(params)}
+        dest = Path(ns.partial).expanduser()
+    else:
+        run = json.loads((out / "shear.json").read_text())
+        params, dest = run["parameters"], out
     gamma0 = params["gamma0"] if ns.gamma0 is None else ns.gamma0
     if not (math.isfinite(gamma0) and gamma0 >= 0):
         raise ParameterError(f"--gamma0 must be a finite number >= 0, got {gamma0!r}")
@@ -89,7 +124,9 @@ def analyze(ns, argv):
     k = SOFT_K if ns.spectra_k is None else check_window(ns.spectra_k, "--spectra-k")
     setting = {"gamma0": gamma0, "spectra": None if ns.no_spectra else ns.spectra,
                "spectra_k": k, "run": run.get("fingerprint", {}).get("sha256")}
-    rd = ResultDir(out, "analysis", force=ns.force, outputs=("analysis.npz",),
+    if partial:
+        setting.update(frames=frames.n_frames, strain=float(frames.strain[-1]))
+    rd = ResultDir(dest, "analysis", force=ns.force, outputs=("analysis.npz",),
                    fingerprint=setting).create()
     with rd.stage("analyze"):
         res = analyze_frames(frames, gamma0, progress=not ns.no_progress and sys.stderr.isatty())
@@ -105,6 +142,9 @@ def analyze(ns, argv):
     rd.write_npz("analysis.npz", **arrays)
     _analysis_outputs(rd, frames, res, numbers, arrays)
     doc = rd.finish(numbers, parameters={**setting, "run_dir": str(out)}, argv=argv)
+    if partial:
+        print(f"partial: the first {frames.n_frames} frames, to strain "
+              f"{frames.strain[-1]:.4g}")
     s = doc.get("summary", {})
     sp = doc.get("slip_spectra")
     among = f"among its {sp['k']} softest modes" if sp and sp["route"] == "soft" else ""
@@ -112,7 +152,7 @@ def analyze(ns, argv):
              f"{sp['n_slips']} slips follow a state with complex pairs {among}".rstrip()
              if sp else "")
     print(f"analysis: {s.get('n_phases')} phases in {s.get('n_steps')} steps{extra}; wrote "
-          f"{out}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
+          f"{dest}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
     return 0
 
 

@@ -9,7 +9,9 @@ complete checkpoints only; the latest ``keep`` are kept.
 
 Resuming a run with other parameters than those of its checkpoint is an
 error (:class:`fricstab.laws.ParameterError` naming the first differing key):
-the continued run would not be the run that was asked for.
+the continued run would not be the run that was asked for.  Keys named
+``free`` (a stop condition such as the total strain, which ends a run but
+does not change its trajectory) may differ: a resumed run may be extended.
 """
 
 import hashlib
@@ -55,13 +57,17 @@ class Checkpointer:
         compared on :meth:`latest`.
     keep : int
         Number of most recent checkpoints kept (>= 1).
+    free : tuple of str
+        Keys of ``fingerprint`` that may differ on :meth:`latest` (stop
+        conditions that do not change the trajectory).
     """
 
-    def __init__(self, directory, fingerprint, keep=2):
+    def __init__(self, directory, fingerprint, keep=2, free=()):
         self.directory = Path(directory)
         self.fingerprint = fingerprint
         self._text = _fingerprint_text(fingerprint)
         self.keep = max(1, int(keep))
+        self.free = tuple(free)
 
     def _files(self):
         if not self.directory.is_dir():
@@ -103,7 +109,7 @@ class Checkpointer:
                                      "checksum (changed after it was written, or written by "
                                      "another version); rerun with --force")
             stored = str(data.pop("fingerprint", ""))
-            if stored != self._text:
+            if stored != self._text and self._difference(stored) is not None:
                 raise ParameterError(f"--resume: the checkpoint {path} was made with other "
                                      f"parameters ({self._difference(stored)}); rerun with "
                                      "the same parameters, or use --force to start afresh")
@@ -112,6 +118,7 @@ class Checkpointer:
         return None
 
     def _difference(self, stored):
+        """The first differing key outside ``free`` in words, or None when there is none."""
         try:
             old = json.loads(stored)
         except ValueError:
@@ -119,8 +126,9 @@ class Checkpointer:
         new = json.loads(self._text)
         if isinstance(old, dict) and isinstance(new, dict):
             for key in sorted(set(old) | set(new)):
-                if old.get(key) != new.get(key):
+                if key not in self.free and old.get(key) != new.get(key):
                     return f"{key}: {old.get(key)!r} there, {new.get(key)!r} now"
+            return None
         return "different fingerprint"
 
     def _leftovers(self):

@@ -51,7 +51,7 @@ import numpy as np
 
 from fricstab.laws import ParameterError
 
-__all__ = ["FORMAT", "FrameWriter", "Frames", "synthetic_frames"]
+__all__ = ["FORMAT", "FrameWriter", "Frames", "read_arrays", "synthetic_frames"]
 
 FORMAT = "fricstab.io.frames/2"  # /2: contact_hist (M, H), contact_flag
 
@@ -221,31 +221,7 @@ class Frames:
     @classmethod
     def load(cls, path):
         """Read a file written by :meth:`save`; ParameterError names the file and the fault."""
-        path = Path(path)
-        try:
-            # Open the file ourselves: np.load leaks the handle of a truncated zip.
-            with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-                if "header" not in z.files:
-                    raise ParameterError(f"{path}: not a fricstab frames file (no header)")
-                header = json.loads(str(z["header"]))
-                if header.get("format") != FORMAT:
-                    raise ParameterError(f"{path}: format {header.get('format')!r}, "
-                                         f"expected {FORMAT!r}")
-                missing = [name for name in _SPEC if name not in z.files]
-                if missing:
-                    raise ParameterError(f"{path}: missing arrays {', '.join(missing)}")
-                arrays = {name: z[name] for name in _SPEC}
-        except FileNotFoundError:
-            raise ParameterError(f"{path}: no such file") from None
-        except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError) as exc:
-            if isinstance(exc, ParameterError):
-                raise
-            raise ParameterError(f"{path}: unreadable frames file ({type(exc).__name__}: "
-                                 f"{exc})") from None
-        for name, (dtype, _) in _SPEC.items():
-            if arrays[name].dtype != dtype:
-                raise ParameterError(f"{path}: {name} has dtype {arrays[name].dtype}, "
-                                     f"expected {np.dtype(dtype)}")
+        header, arrays = read_arrays(path, _SPEC)
         try:
             return cls(lx=header["lx"], meta=header.get("meta", {}), **arrays)
         except ParameterError as exc:
@@ -272,6 +248,43 @@ class Frames:
             [[0]] + [c.contact_ptr[1:] + o for c, o in zip(chunks, offsets)])
         return cls(lx=first.lx, radius=first.radius, mass=first.mass, inertia=first.inertia,
                    kind=first.kind, meta=first.meta, **out)
+
+
+
+def read_arrays(path, names):
+    """``(header, {name: array})`` of the arrays ``names`` of a frames file.
+
+    Reads only those arrays (an NPZ member is read on access), so the
+    per-frame series of a chunk cost a few kB, not its positions and
+    contacts; dtypes are checked against the contract.  ParameterError names
+    the file for a missing, truncated or foreign one.
+    """
+    path = Path(path)
+    try:
+        # Open the file ourselves: np.load leaks the handle of a truncated zip.
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
+            if "header" not in z.files:
+                raise ParameterError(f"{path}: not a fricstab frames file (no header)")
+            header = json.loads(str(z["header"]))
+            if header.get("format") != FORMAT:
+                raise ParameterError(f"{path}: format {header.get('format')!r}, "
+                                     f"expected {FORMAT!r}")
+            missing = [name for name in names if name not in z.files]
+            if missing:
+                raise ParameterError(f"{path}: missing arrays {', '.join(missing)}")
+            arrays = {name: z[name] for name in names}
+    except FileNotFoundError:
+        raise ParameterError(f"{path}: no such file") from None
+    except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError) as exc:
+        if isinstance(exc, ParameterError):
+            raise
+        raise ParameterError(f"{path}: unreadable frames file ({type(exc).__name__}: "
+                             f"{exc})") from None
+    for name in names:
+        if arrays[name].dtype != _SPEC[name][0]:
+            raise ParameterError(f"{path}: {name} has dtype {arrays[name].dtype}, "
+                                 f"expected {np.dtype(_SPEC[name][0])}")
+    return header, arrays
 
 
 class FrameWriter:

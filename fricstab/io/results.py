@@ -123,6 +123,10 @@ class ResultDir:
         A created ResultDir of the same directory whose lock this run shares:
         a result written as part of another run (the packing that ``packing
         rigidity`` makes), with its own record, journal and manifest.
+    free : tuple of str
+        Parameters a resumed run may change: stop conditions (the total
+        strain of a shear run) that extend the run without changing what it
+        has computed.
 
     Raises
     ------
@@ -133,7 +137,7 @@ class ResultDir:
     """
 
     def __init__(self, path, name, *, force=False, resume=False, outputs=(), fingerprint=None,
-                 resumable=True, within=None):
+                 resumable=True, within=None, free=()):
         self.path = Path(path).expanduser()
         self.name = name
         self.record = self.path / f"{name}.json"
@@ -153,12 +157,13 @@ class ResultDir:
                 raise ParameterError(f"--resume: {self.path} already holds a complete "
                                      f"result ({self.record.name}); use --force to recompute")
             old = _read_json(journal)
-            if old is not None and self.fingerprint is not None and \
-                    old.get("fingerprint", {}).get("sha256") != self.fingerprint["sha256"]:
+            differs = None if old is None or self.fingerprint is None else \
+                rundir.difference(old.get("fingerprint"), self.fingerprint, free)
+            if differs:
                 raise ParameterError(
                     f"--resume: the interrupted run in {self.path} was made with other "
-                    f"parameters ({rundir.difference(old.get('fingerprint'), self.fingerprint)}"
-                    "); rerun with the same parameters, or use --force to start afresh")
+                    f"parameters ({differs}); rerun with the same parameters, or use --force "
+                    "to start afresh")
             return
         found = [n for n in (self.record.name, *self.outputs) if (self.path / n).exists()]
         if journal.exists():

@@ -47,14 +47,18 @@ def fingerprint(parameters):
     return {"sha256": hashlib.sha256(text.encode()).hexdigest(), "parameters": clean}
 
 
-def difference(old, new):
-    """The first differing parameter of two fingerprints, in words."""
+def difference(old, new, free=()):
+    """The first differing parameter of two fingerprints outside ``free``, in words, or None.
+
+    Fingerprints without their parameters compare by hash.
+    """
     a, b = (old or {}).get("parameters"), (new or {}).get("parameters")
     if isinstance(a, dict) and isinstance(b, dict):
         for key in sorted(set(a) | set(b)):
-            if a.get(key) != b.get(key):
+            if key not in free and a.get(key) != b.get(key):
                 return f"{key}: {a.get(key)!r} there, {b.get(key)!r} now"
-    return "other parameters"
+        return None
+    return None if (old or {}).get("sha256") == (new or {}).get("sha256") else "other parameters"
 
 
 def journal_path(folder, protocol):

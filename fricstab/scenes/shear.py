@@ -173,7 +173,7 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
     Field("dgamma", "float", 1e-5, "-", "shear strain between output frames (paper: 7.2e-7)",
           low=0.0,
           low_open=True, high=0.01),
-    Field("strain", "float", 0.06, "-", "total shear strain (paper: 0.0936 = 130,000 x 7.2e-7)",
+    Field("strain", "float", 0.06, "-", "total shear strain (paper: 0.1156 = 0.022 + 130,000 x 7.2e-7); --resume with a larger one extends a run",
           low=0.0, low_open=True, high=10.0),
     Field("gamma0", "float", 0.022, "-", "start of the stick-slip regime for the analysis",
           low=0.0),
