@@ -2,6 +2,8 @@
 
 import json
 import shutil
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -174,3 +176,25 @@ def test_analyze_with_the_law_of_the_run(tmp_path, law):
         assert np.all(z["slip_n_rolling"] == 0)        # only lee_hurley resists rolling
         if law != "charan":
             assert np.all(z["slip_n_sliding"] == 0)    # no Coulomb cap
+
+
+def test_paper_comparison_script_reads_a_complete_and_a_partial_analysis(run_dir, tmp_path):
+    """validation/shear_paper.py: one verdict row per paper statement, for both kinds."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation"))
+    import shear_paper
+    part = tmp_path / "run"
+    shutil.copytree(run_dir / "frames", part / "frames")
+    shutil.copyfile(run_dir / "prepare.json", part / "prepare.json")
+    assert main(["shear", "analyze", "--out", str(part), "--partial", str(tmp_path / "p"),
+                 "--no-progress", "--no-spectra"]) == 0
+    for args, word in (([str(run_dir)], "(complete)"),
+                       ([str(part), "--analysis", str(tmp_path / "p")], "**partial**")):
+        md = tmp_path / "out" / "paper.md"
+        assert shear_paper.main([*args, "--md", str(md)]) == 0
+        text = md.read_text()
+        verdicts = [ln for ln in text.splitlines() if ln.startswith("| 9") or
+                    ln.startswith("| 10")]
+        assert len(verdicts) == len(shear_paper.STATEMENTS) and word in text
+        doc = json.loads(md.with_suffix(".json").read_text())
+        assert doc["complete"] == (word == "(complete)")
+        assert (tmp_path / "out" / "paper_dtau_p.png").stat().st_size > 1000

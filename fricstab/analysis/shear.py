@@ -70,7 +70,7 @@ from fricstab.errors import ParameterError
 __all__ = ["PAPER_BINS", "ShearAnalysis", "analyze", "binned_spearman", "contact_angle",
            "d2min", "differential_forces", "find_phases", "gr_regions",
            "neighbour_pairs", "nonaffine_displacement", "particle_stress", "phase_metrics",
-           "phase_summary", "rattler_mask", "spearman_cell", "step_metrics",
+           "phase_summary", "paper_tables", "rattler_mask", "spearman_cell", "step_metrics",
            "tables_markdown"]
 
 
@@ -291,6 +291,16 @@ def particle_stress(frames, k):
 def _max_principal(sig):
     sym = 0.5 * (sig + np.swapaxes(sig, 1, 2))
     return np.linalg.eigvalsh(sym)[:, -1]
+
+
+def paper_tables(tables):
+    """The Spearman tables of :func:`analyze` under the names of the paper's figures (markdown)."""
+    return tables_markdown({"Delta tau per step (Fig. 9a)": tables["step_dtau"],
+                            "all phases (Fig. 9b)": tables["phase_all"],
+                            "long phases, t_p > 3 dgamma (Fig. 10a)": tables["phase_long"],
+                            "short phases (Fig. 10b)": tables["phase_short"],
+                            "Delta tau_p - t_p (Fig. 10c)": tables["phase_tp"]},
+                           "Lee & Hurley correlations")
 
 
 @dataclass(frozen=True)

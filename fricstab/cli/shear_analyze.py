@@ -159,17 +159,12 @@ def analyze(ns, argv):
 def _analysis_outputs(rd, frames, res, numbers, arrays):
     """analysis.md (Spearman tables) and the figures of Figs. 2, 8-10 and the slip spectra."""
     from fricstab.figures import shear as sf
-    from fricstab.analysis.shear import tables_markdown
+    from fricstab.analysis.shear import paper_tables, tables_markdown
     t = res.tables
     text = [f"# Plane shear analysis of {rd.path}", "",
             "Spearman rho (p-value, n) of Delta tau / Delta tau_p per bin; struck through: "
             "p > 0.05 (omitted in the paper's figures).", "",
-            tables_markdown({"Delta tau per step (Fig. 9a)": t["step_dtau"],
-                             "all phases (Fig. 9b)": t["phase_all"],
-                             "long phases, t_p > 3 dgamma (Fig. 10a)": t["phase_long"],
-                             "short phases (Fig. 10b)": t["phase_short"],
-                             "Delta tau_p - t_p (Fig. 10c)": t["phase_tp"]},
-                            "Lee & Hurley correlations")]
+            paper_tables(t)]
     sp = numbers.get("slip_spectra")
     if sp:
         c = sp["correlations_with_following_dtau_p"]

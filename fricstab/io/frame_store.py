@@ -1,7 +1,7 @@
 """The frames of a run read a chunk at a time: runs larger than memory.
 
-A paper-size plane-shear run (1,067 disks, 130,000 frames) writes about
-15 GB of frames; :class:`FrameStore` gives the analyses, figures and slip
+A paper-size plane-shear run (1,067 disks, 160,556 frames, 116 kB each)
+writes about 19 GB of frames; :class:`FrameStore` gives the analyses, figures and slip
 spectra the part of the :class:`fricstab.io.frames.Frames` interface they use
 while holding only the per-frame series and a few chunks in memory:
 
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fricstab.io.frames import _PER_PARTICLE, FrameWriter, Frames, _readonly, read_arrays
+from fricstab.io.frames import _PER_PARTICLE, Frames, _readonly, read_arrays, subset_of
 from fricstab.laws import ParameterError
 
 __all__ = ["FrameStore"]
@@ -120,14 +120,10 @@ class FrameStore:
         chunk, i = self._locate(k)
         return chunk.contacts(i)
 
+    def _frame_kwargs(self, k):
+        chunk, i = self._locate(k)
+        return chunk._frame_kwargs(i)
+
     def subset(self, frames):
         """A :class:`Frames` in memory with the frames ``frames`` (int indices, in order)."""
-        idx = np.asarray(frames, dtype=np.int64).ravel()
-        if idx.size == 0 or np.any(idx < 0) or np.any(idx >= self.n_frames):
-            raise ParameterError(f"subset: indices must lie in [0, {self.n_frames})")
-        w = FrameWriter(self.lx, self.radius, self.mass, self.inertia, self.kind, self.meta)
-        for k in idx:
-            chunk, i = self._locate(k)
-            w.append(**chunk._frame_kwargs(i))
-        return w.finish()
-
+        return subset_of(self, frames)

@@ -51,7 +51,8 @@ import numpy as np
 
 from fricstab.laws import ParameterError
 
-__all__ = ["FORMAT", "FrameWriter", "Frames", "read_arrays", "synthetic_frames"]
+__all__ = ["FORMAT", "FrameWriter", "Frames", "read_arrays", "subset_of",
+           "synthetic_frames"]
 
 FORMAT = "fricstab.io.frames/2"  # /2: contact_hist (M, H), contact_flag
 
@@ -186,13 +187,7 @@ class Frames:
 
     def subset(self, frames):
         """A new :class:`Frames` with the frames ``frames`` (sorted int indices)."""
-        idx = np.asarray(frames, dtype=np.int64).ravel()
-        if idx.size == 0 or np.any(idx < 0) or np.any(idx >= self.n_frames):
-            raise ParameterError(f"subset: indices must lie in [0, {self.n_frames})")
-        w = FrameWriter(self.lx, self.radius, self.mass, self.inertia, self.kind, self.meta)
-        for k in idx:
-            w.append(**self._frame_kwargs(int(k)))
-        return w.finish()
+        return subset_of(self, frames)
 
     def _frame_kwargs(self, k):
         ij, force, fn, hist, flag = self.contacts(k)
@@ -357,6 +352,22 @@ class FrameWriter:
             arrays[name] = np.concatenate(f[name])
         arrays["contact_ptr"] = np.concatenate([[0], np.cumsum(self._counts)])
         return Frames(meta=self.meta, **self._const, **arrays)
+
+
+def subset_of(source, frames):
+    """A :class:`Frames` of the frames ``frames`` of ``source`` (a Frames or a FrameStore).
+
+    ``source`` gives ``lx``, the per-particle arrays, ``meta``, ``n_frames``
+    and ``_frame_kwargs(k)`` (the arrays of frame k as :meth:`FrameWriter.append` takes them).
+    """
+    idx = np.asarray(frames, dtype=np.int64).ravel()
+    if idx.size == 0 or np.any(idx < 0) or np.any(idx >= source.n_frames):
+        raise ParameterError(f"subset: indices must lie in [0, {source.n_frames})")
+    w = FrameWriter(source.lx, source.radius, source.mass, source.inertia, source.kind,
+                    source.meta)
+    for k in idx:
+        w.append(**source._frame_kwargs(int(k)))
+    return w.finish()
 
 
 def synthetic_frames(n_frames=12, nx=12, ny=8, seed=0, dgamma=1e-3, noise=0.02):

@@ -1,0 +1,214 @@
+"""The paper-preset plane shear against Lee & Hurley Secs. 3.2-3.3 (Figs. 2, 8-10).
+
+Reads the analysis of a ``fricstab shear run --preset paper`` run (``fricstab
+shear analyze --out RUN``, or ``--partial DIR2`` while the run is still going)
+and writes ``validation/shear_paper.md``, ``validation/shear_paper.json`` and
+the figures ``validation/shear_paper_*.png``: the run's facts and wall time,
+the phase statistics against the paper's ~42,000 phases in ~130,000 output
+steps, the distribution of Delta tau_p (stick and slip), the paper's
+statements on the Spearman correlations of Figs. 9-10 each against our
+coefficients in the bins it names, and the Spearman tables.
+
+Usage::
+
+    fricstab shear run --preset paper --out RUN          # ~5 h on 2 idle cores
+    fricstab shear analyze --out RUN                     # or --partial DIR2 while it runs
+    python validation/shear_paper.py RUN [--analysis DIR2]
+
+The paper names strengths in words; we read |rho| < 0.4 as weak, 0.4-0.7 as
+moderate and >= 0.7 as strong (Dancey & Reidy's bands, a common reading; the
+paper states none) and, as the paper does, keep only cells with p <= 0.05.
+"""
+
+import argparse
+import json
+import shutil
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # run from anywhere without installing
+
+PAPER_PHASES, PAPER_STEPS = 42_000, 130_000
+BANDS = ((0.4, "weak"), (0.7, "moderate"), (np.inf, "strong"))
+# (figure, table, series, bins (lo of each bin), classes the paper states, its words)
+STATEMENTS = [
+    ("9a", "step_dtau", ("g", "g10"), (-1e-1,), {"weak"},
+     "Delta tau vs gD2min, g_t10%D2min: weak for -1e-1 < Delta tau < -1e-2"),
+    ("9a", "step_dtau", ("g", "g10"), (-1e-2,), {"moderate"},
+     "moderate for -1e-2 < Delta tau < -1e-3"),
+    ("9a", "step_dtau", ("g", "g10"), (1e-3,), {"moderate"},
+     "moderate for 1e-3 < Delta tau < 1e-2"),
+    ("9b", "phase_all", ("mg", "mg10", "sg", "sg10"), (-1e-1, -1e-2), {"moderate", "strong"},
+     "all phases, four metrics: moderate to strong for -1e-1 < Delta tau_p < -1e-3"),
+    ("10a", "phase_long", ("mg10", "sg10"), (-1e-1,), {"strong"},
+     "long phases, mg_t10%, sg_t10%: strong for Delta tau_p < -1e-2"),
+    ("10a", "phase_long", ("mg10", "sg10"), (-1e-2, -1e-3, -1e-4), {"moderate"},
+     "mostly moderate for -1e-2 < Delta tau_p < 0"),
+    ("10c", "phase_tp", ("long",), (1e-4, 1e-3, 1e-2), {"moderate"},
+     "Delta tau_p vs t_p, long phases: moderate for Delta tau_p > 1e-4 (stick)"),
+    ("10c", "phase_tp", ("long",), (-1e-1, -1e-2, -1e-3, -1e-4), {"weak"},
+     "weak for slips (Delta tau_p < 0) in long phases"),
+    ("10c", "phase_tp", ("short",), (-1e-1, -1e-2, -1e-3, -1e-4, 0.0, 1e-4, 1e-3, 1e-2),
+     {"weak"}, "weak in short phases"),
+]
+
+
+def strength(rho):
+    """The band of |rho| (weak, moderate, strong)."""
+    return next(name for top, name in BANDS if abs(rho) < top)
+
+
+def judge(tables, table, series, bins, classes):
+    """Our cells in the named bins: (text, verdict) with verdict agrees/differs/no data."""
+    cells, seen = [], []
+    for s in series:
+        for c in tables[table][s]:
+            if c["lo"] not in bins:
+                continue
+            if c["rho"] is None:
+                cells.append(f"{s} [{c['lo']:.0e}): n/a (n = {c['n']})")
+                continue
+            word = strength(c["rho"]) if c["significant"] else "p > 0.05"
+            cells.append(f"{s} [{c['lo']:.0e}): {c['rho']:+.2f} ({word}, n = {c['n']})")
+            if c["significant"]:
+                seen.append(strength(c["rho"]))
+    if not seen:
+        return "; ".join(cells), "no significant cell"
+    agree = sum(w in classes for w in seen)
+    verdict = "agrees" if agree == len(seen) else ("partly" if agree else "differs")
+    return "; ".join(cells), f"{verdict} ({agree} of {len(seen)} significant cells)"
+
+
+def dtau_distribution(dtau, path):
+    """Counts of |Delta tau_p| per decade for stick and slip phases, and its figure."""
+    from fricstab.figures.common import finish, pyplot
+    plt = pyplot()
+    edges = 10.0 ** np.arange(-9, 0.5, 0.25)
+    fig, ax = plt.subplots(figsize=(6, 3.6), constrained_layout=True)
+    rows = {}
+    for name, sel, color in (("stick", dtau > 0, "C0"), ("slip", dtau < 0, "C3")):
+        a = np.abs(dtau[sel])
+        h, _ = np.histogram(a, edges)
+        ax.stairs(h / max(len(a), 1) / np.diff(np.log10(edges)), edges, color=color,
+                  label=f"{name} ({len(a)} phases)")
+        rows[name] = {"n": int(len(a)),
+                      "quantiles_10_50_90": [float(q) for q in np.quantile(a, [.1, .5, .9])]
+                      if len(a) else None,
+                      "per_decade": {f"[1e{d}, 1e{d + 1})": int(((a >= 10.0 ** d) &
+                                                                (a < 10.0 ** (d + 1))).sum())
+                                     for d in range(-8, 0)}}
+    ax.set(xscale="log", xlabel=r"$|\Delta\tau_p|$ [-]",
+           ylabel="phases per decade / phases [-]",
+           title="Distribution of the stress change of a phase (paper: none given)")
+    ax.legend(fontsize=8)
+    finish(fig, path, dpi=130)
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("run", type=Path, help="the run directory (fricstab shear run --preset paper)")
+    ap.add_argument("--analysis", type=Path, default=None,
+                    help="the analysis directory (default: RUN; a --partial DIR2)")
+    ap.add_argument("--md", type=Path, default=HERE / "shear_paper.md")
+    ns = ap.parse_args(argv)
+    from fricstab.analysis.shear import paper_tables
+    from fricstab.figures.shear import fig_spearman_bins
+    run, an_dir = ns.run, ns.analysis or ns.run
+    rec = json.loads((an_dir / "analysis.json").read_text())
+    with np.load(an_dir / "analysis.npz") as z:
+        arrays = {k: z[k] for k in z.files}
+    s, t, setting = rec["summary"], rec["tables"], rec["parameters"]
+    complete = (run / "shear.json").exists() and "frames" not in setting
+    shear = json.loads((run / "shear.json").read_text()) if complete else None
+    prep = json.loads((run / "prepare.json").read_text())
+    stem = ns.md.with_suffix("")
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    figs = {}
+    for src, name in (("analysis_stress_strain.png", "fig2"),
+                      ("analysis_steps_largest_slip.png", "fig8"),
+                      ("analysis_slip_spectra.png", "slip_spectra")):
+        if (an_dir / src).exists():
+            figs[name] = f"{stem.name}_{name}.png"
+            shutil.copyfile(an_dir / src, stem.parent / figs[name])
+    for key, name, title in (("step_dtau", "fig9a", "Delta tau per step (cf. Fig. 9a)"),
+                             ("phase_all", "fig9b", "all phases (cf. Fig. 9b)"),
+                             ("phase_long", "fig10a", "long phases (cf. Fig. 10a)"),
+                             ("phase_short", "fig10b", "short phases (cf. Fig. 10b)"),
+                             ("phase_tp", "fig10c", "Delta tau_p - t_p (cf. Fig. 10c)")):
+        figs[name] = f"{stem.name}_{name}.png"
+        fig_spearman_bins(t[key], stem.parent / figs[name], title)
+    figs["dtau_p"] = f"{stem.name}_dtau_p.png"
+    dist = dtau_distribution(arrays["phase_dtau_p"], stem.parent / figs["dtau_p"])
+    strain = arrays["strain"]
+    n_steps, rate = s["n_steps"], s["phases_per_step"]
+    k0, k1 = s["largest_drop_steps"] or (0, 0)
+    if complete:
+        tm = shear["timings"]
+        wall = (f"prepare {tm['prepare']['wall_s'] / 60:.0f} min + shear "
+                f"{tm['shear']['wall_s'] / 3600:.2f} h")
+        reach = f"{strain[-1]:.4f} (complete)"
+    else:
+        wall = f"prepare {prep['seconds'] / 60:.0f} min; shear still running"
+        reach = (f"{strain[-1]:.4f} of {0.022 + PAPER_STEPS * 7.2e-7:.4f} "
+                 f"(**partial**: the first {setting['frames']} frames)")
+    rows = [
+        ("frames analysed; strain reached", reach),
+        ("output steps in the window (strain >= 2.2 %)", f"{n_steps} (paper ~{PAPER_STEPS:,})"),
+        ("phases (stick + slip)", f"{s['n_phases']} ({s['n_stick']} + {s['n_slip']}); "
+                                  f"paper ~{PAPER_PHASES:,}"),
+        ("phases per output step", f"**{rate:.3f}** (paper {PAPER_PHASES / PAPER_STEPS:.3f})"),
+        ("long phases (t_p > 3 dgamma)", f"{s['fraction_long']:.2f} of all"),
+        ("slip |Delta tau_p|: median / mean", f"{s['slip_abs_dtau_median']:.2e} / "
+                                             f"{s['slip_abs_dtau_mean']:.2e}"),
+        ("largest drop of tau in one phase", f"{s['largest_drop']:.4f} at strain "
+                                             f"{100 * strain[k0]:.4f}-{100 * strain[k1]:.4f} % "
+                                             "(paper: Fig. 2b, 10.0555-10.0575 %)"),
+        ("wall time (2-core AMD EPYC)", wall),
+    ]
+    sp = rec.get("slip_spectra")
+    if sp:
+        rows.append(("slips whose stick state has complex pairs (soft window)",
+                     f"{sp['slips_with_complex_pairs']} of {sp['n_slips']}"))
+    verdicts = [(fig, words, *judge(t, table, series, bins, classes))
+                for fig, table, series, bins, classes, words in STATEMENTS]
+    lines = [
+        "# Plane shear at the paper's scale (Lee & Hurley Secs. 3.2-3.3)", "",
+        f"Commands: `fricstab shear run --preset paper --out RUN`, `fricstab shear analyze "
+        f"--out RUN{'' if complete else ' --partial DIR2'}`, `python validation/shear_paper.py "
+        f"RUN{'' if complete else ' --analysis DIR2'}`. 1,000 bulk disks (+ 67 wall disks), "
+        "I = 4e-6, kappa = 1e4, mu_s = 0.7, mu_r = 0.01, frames 7.2e-7 of strain apart.", "",
+        "| quantity | this run |", "|---|---|", *(f"| {a} | {b} |" for a, b in rows), "",
+        "## The paper's statements on Figs. 9-10 against our coefficients", "",
+        "Bands: |rho| < 0.4 weak, 0.4-0.7 moderate, >= 0.7 strong (the paper states none); "
+        "cells with p > 0.05 are not judged, as the paper omits them.", "",
+        "| Fig. | paper | ours (bin: rho, band, n) | verdict |", "|---|---|---|---|",
+        *(f"| {f} | {w} | {c} | {v} |" for f, w, c, v in verdicts), "",
+        f"Figures: Fig. 2 ![]({figs.get('fig2', '')}), Fig. 8 around the largest slip "
+        f"![]({figs.get('fig8', '')}), Figs. 9-10 ![]({figs['fig9a']}) ![]({figs['fig9b']}) "
+        f"![]({figs['fig10a']}) ![]({figs['fig10b']}) ![]({figs['fig10c']}), the Delta tau_p "
+        f"distribution ![]({figs['dtau_p']}).", "",
+        "## Distribution of Delta tau_p (phases per decade of |Delta tau_p|)", "",
+        "| decade | " + " | ".join(dist["stick"]["per_decade"]) + " |",
+        "|---|" + "---|" * len(dist["stick"]["per_decade"]),
+        *(f"| {name} | " + " | ".join(str(v) for v in dist[name]["per_decade"].values()) + " |"
+          for name in ("stick", "slip")), "",
+        "## Spearman tables", "",
+        paper_tables(t),
+    ]
+    ns.md.write_text("\n".join(lines) + "\n")
+    stem.with_suffix(".json").write_text(json.dumps(
+        {"complete": complete, "strain_reached": float(strain[-1]), "summary": s,
+         "verdicts": [{"figure": f, "paper": w, "ours": c, "verdict": v}
+                      for f, w, c, v in verdicts], "dtau_p": dist, "wall": wall}, indent=1))
+    print(f"wrote {ns.md}: {s['n_phases']} phases in {n_steps} steps ({rate:.3f} per step; "
+          f"paper {PAPER_PHASES / PAPER_STEPS:.3f}); strain {strain[-1]:.4f}"
+          f"{'' if complete else ' (partial)'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
