@@ -152,6 +152,38 @@ def test_partial_analysis_is_that_of_the_same_frames(run_dir, tmp_path, capsys):
         assert say in err and err.strip().count("\n") == 0
 
 
+def test_reuse_of_an_earlier_partial_analysis_is_bit_identical(run_dir, tmp_path, capsys):
+    """--reuse: an analysis of the first two chunks, then of all with it reused, equals
+    the fresh analysis of all; an analysis of other frames is refused (exit 2)."""
+    first, whole = tmp_path / "first", tmp_path / "whole"
+    chunks = sorted((run_dir / "frames").glob("chunk_*.npz"))
+    (first / "frames").mkdir(parents=True)
+    for c in chunks[:2]:
+        shutil.copyfile(c, first / "frames" / c.name)
+    shutil.copytree(run_dir / "frames", whole / "frames")
+    assert main(["shear", "analyze", "--out", str(first), "--partial", str(tmp_path / "p1"),
+                 "--no-progress"]) == 0
+    assert main(["shear", "analyze", "--out", str(whole), "--partial", str(tmp_path / "p2"),
+                 "--reuse", str(tmp_path / "p1"), "--no-progress"]) == 0
+    with np.load(run_dir / "analysis.npz") as a, np.load(tmp_path / "p2/analysis.npz") as b:
+        assert set(a.files) == set(b.files)
+        for name in a.files:
+            np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+    rec = json.loads((tmp_path / "p2/analysis.json").read_text())
+    assert rec["parameters"]["reused"]["frames"] == frames_of(first, partial=True).n_frames
+    capsys.readouterr()
+    other = tmp_path / "other"       # the first chunks of another run
+    (other / "frames").mkdir(parents=True)
+    shutil.copyfile(chunks[2], other / "frames" / "chunk_000000.npz")
+    assert main(["shear", "analyze", "--out", str(other), "--partial", str(tmp_path / "p3"),
+                 "--no-progress", "--no-spectra"]) == 0
+    capsys.readouterr()
+    assert main(["shear", "analyze", "--out", str(whole), "--partial", str(tmp_path / "p4"),
+                 "--reuse", str(tmp_path / "p3")]) == 2
+    err = capsys.readouterr().err
+    assert "--reuse" in err and "strain and tau differ" in err and not (tmp_path / "p4").exists()
+
+
 def test_analyze_without_a_run_is_bad_input(tmp_path, capsys):
     assert main(["shear", "analyze", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err

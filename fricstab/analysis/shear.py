@@ -67,10 +67,10 @@ from fricstab.analysis.shear_phases import (PAPER_BINS, binned_spearman, find_ph
                                             step_metrics, tables_markdown)
 from fricstab.errors import ParameterError
 
-__all__ = ["PAPER_BINS", "ShearAnalysis", "analyze", "binned_spearman", "contact_angle",
-           "d2min", "differential_forces", "find_phases", "gr_regions",
-           "neighbour_pairs", "nonaffine_displacement", "particle_stress", "phase_metrics",
-           "phase_summary", "paper_tables", "rattler_mask", "spearman_cell", "step_metrics",
+__all__ = ["PAPER_BINS", "PER_STEP", "ShearAnalysis", "analyze", "binned_spearman",
+           "check_previous", "contact_angle", "d2min", "differential_forces", "find_phases", "gr_regions",
+           "neighbour_pairs", "nonaffine_displacement", "paper_tables", "particle_stress",
+           "phase_metrics", "phase_summary", "rattler_mask", "spearman_cell", "step_metrics",
            "tables_markdown"]
 
 
@@ -321,8 +321,28 @@ class ShearAnalysis:
         return {**self.arrays, "phases": self.phases}
 
 
+#: Per-step arrays of :func:`analyze` that depend on the frames only (not on gamma0).
+PER_STEP = ("g", "g10", "rho_sigma_d2", "n_clusters", "angle_mean", "angle_median",
+            "n_rattlers")
+
+
+def check_previous(frames, previous):
+    """m, the frames of the earlier analysis ``previous`` (arrays), if they begin ``frames``.
+
+    ParameterError unless its strain and tau series equal the first m of
+    ``frames`` to the bit (a chaotic run that went another way differs
+    within a few frames).
+    """
+    m, T = len(previous["tau"]), frames.n_frames
+    if not (2 <= m <= T and np.array_equal(previous["strain"], frames.strain[:m]) and
+            np.array_equal(previous["tau"], frames.tau[:m])):
+        raise ParameterError(f"the earlier analysis ({m} frames) is not one of the first "
+                             f"frames of these {T} (its strain and tau differ)")
+    return m
+
+
 def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr",
-            frames_range=None, keep_d2min=False, progress=True):
+            frames_range=None, keep_d2min=False, progress=True, previous=None):
     """All analyses of a plane-shear run over its output steps (Lee & Hurley Secs. 3.2-3.3).
 
     Per step: rattlers, D2min (App. B), its maximum and top-10 % mean, GR
@@ -350,6 +370,14 @@ def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr
         Also return the (T, N) D2min field (m^2).
     progress : bool
         tqdm progress bar.
+    previous : mapping, optional
+        The arrays (``analysis.npz``) of an earlier analysis, with the same
+        ``radius_factor`` and ``fraction``, of the first m frames of these
+        frames (a ``--partial`` analysis of a run that has gone on): its
+        per-step arrays :data:`PER_STEP` are taken for steps 1..m-1 and only
+        the steps from m are computed; the result is bit-identical to a
+        fresh analysis.  ParameterError unless its strain and tau series
+        equal these frames' first m to the bit.
 
     Returns
     -------
@@ -376,6 +404,12 @@ def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr
     start, stop = frames_range or (1, T)
     if not 1 <= start < stop <= T:
         raise ParameterError(f"analyze: frames_range {frames_range} must satisfy 1 <= start < stop <= {T}")
+    first = start    # the first step computed here
+    if previous is not None:
+        if frames_range is not None or keep_d2min:
+            raise ParameterError("analyze: previous= goes with neither frames_range nor "
+                                 "keep_d2min")
+        first = check_previous(frames, previous)
     nan = np.full(T, np.nan)
     arr = {"strain": np.array(frames.strain), "tau": np.array(frames.tau),
            "dtau": np.concatenate([[np.nan], np.diff(frames.tau)]),
@@ -383,9 +417,12 @@ def analyze(frames, gamma0, *, radius_factor=5.0, fraction=0.01, ts_rule="min_gr
            "n_clusters": np.zeros(T, np.int64), "angle_mean": nan.copy(),
            "angle_median": nan.copy(), "n_rattlers": np.zeros(T, np.int64)}
     field = np.full((T, N), np.nan) if keep_d2min else None
-    ratt_prev = rattler_mask(frames, start - 1)
-    smax_prev = _max_principal(particle_stress(frames, start - 1))
-    for k in tqdm(range(start, stop), disable=not progress, desc="shear analysis"):
+    if previous is not None:
+        for name in PER_STEP:
+            arr[name][:first] = previous[name]
+    ratt_prev = rattler_mask(frames, first - 1)
+    smax_prev = _max_principal(particle_stress(frames, first - 1))
+    for k in tqdm(range(first, stop), disable=not progress, desc="shear analysis"):
         signals.check(f" at frame {k}")
         ratt = rattler_mask(frames, k)
         arr["n_rattlers"][k] = int(ratt.sum())

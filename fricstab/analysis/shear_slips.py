@@ -119,7 +119,8 @@ class SlipSpectra:
         }
 
 
-def slip_spectra(frames, phases, dtau_p, params, progress=False, route="soft", k=None):
+def slip_spectra(frames, phases, dtau_p, params, progress=False, route="soft", k=None,
+                 previous=None):
     """Spectrum statistics at the stick state before every slip (beyond Lee & Hurley).
 
     At the frame where tau peaked before every slip: the stiffness
@@ -147,6 +148,12 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False, route="soft", k
     k : int, optional
         The window of softest eigenvalues (default
         :data:`fricstab.analysis.shear_spectrum.SOFT_K`).
+    previous : mapping, optional
+        The ``slip_*`` arrays of an earlier analysis of the first frames of
+        these frames with the same route and k (checked by the caller,
+        :func:`fricstab.analysis.shear.analyze`): a slip whose stick frame it
+        holds takes its row instead of a new spectrum (a frame's spectrum
+        depends on that frame only, so the result is the same to the bit).
 
     Returns
     -------
@@ -177,10 +184,19 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False, route="soft", k
     cols = {c: [] for c in ("n_complex_pairs", "max_growth_rate", "lowest_real_eigenvalue",
                             "n_sliding", "n_rolling", "n_null", "fallback")}
     soft = np.full((len(slips), k + 1), np.nan, complex)
+    done = {} if previous is None else {int(f): r for r, f in enumerate(previous["slip_frame"])}
     for s, p in enumerate(tqdm(slips, desc=f"slip spectra ({route})", unit="slip",
                                disable=not progress)):
         signals.check()
         f = int(phases[p, 0]) - 1
+        if f in done:
+            r = done[f]
+            for c in cols:
+                v = previous[f"slip_{c}"][r]
+                cols[c].append("(reused)" if c == "fallback" and v else
+                               ("" if c == "fallback" else v))
+            soft[s] = previous["slip_softest"][r]
+            continue
         ij, _, _, hist, flag = frames.contacts(f)
         state = recorded_state(system, frames.pos[f], frames.angle[f], ij, hist, flag)
         spec = soft_spectrum(system, state, k) if route == "soft" else spectrum(system, state, k)

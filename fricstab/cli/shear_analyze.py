@@ -1,6 +1,6 @@
 """``fricstab shear analyze|export``: analyses, slip spectra and OVITO export of a shear run.
 
-``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra] [--spectra R] [--partial DIR2]``
+``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra] [--spectra R] [--partial DIR2] [--reuse DIR3]``
     D2min, GR regions, phases and Spearman tables of the frames in DIR
     (:func:`fricstab.analysis.shear.analyze`), then the spectrum of the
     Jacobian before each slip (:func:`fricstab.analysis.shear_slips.slip_spectra`)
@@ -14,7 +14,10 @@
     larger than memory analyses in a few hundred MB.  ``--partial DIR2``
     analyses what an interrupted or still running run has written so far
     into DIR2, with the parameters its frames record; the record names the
-    frames and strain it covers.
+    frames and strain it covers.  ``--reuse DIR3`` takes the per-step
+    analyses and slip spectra of an earlier analysis of the run's first
+    frames (a ``--partial`` one) and computes only the frames after them:
+    the same result to the bit, checked by its strain and tau series.
 ``fricstab shear export --out DIR [--format extxyz|lammps] [--every K] [--force]``
     The frames for OVITO (:func:`fricstab.io.export.frames_to_ovito`).
 """
@@ -76,6 +79,10 @@ def add_analyze_parsers(s):
                         "so far, into DIR2 (the run's DIR is only read; its parameters come "
                         "from the frames)")
     a.add_argument("--no-progress", action="store_true", help="no progress bar")
+    a.add_argument("--reuse", type=Path, default=None, metavar="DIR3",
+                   help="take the per-step analyses and slip spectra of an earlier analysis "
+                        "in DIR3 (e.g. a --partial one) of this run's first frames, and "
+                        "compute only the frames after them (the same result to the bit)")
     a.add_argument("--no-spectra", action="store_true",
                    help="skip the Jacobian spectrum before each slip")
     a.add_argument("--spectra", choices=("soft", "dense"), default="soft",
@@ -126,17 +133,23 @@ def analyze(ns, argv):
                "spectra_k": k, "run": run.get("fingerprint", {}).get("sha256")}
     if partial:
         setting.update(frames=frames.n_frames, strain=float(frames.strain[-1]))
+    previous = _previous(ns.reuse, setting, frames) if ns.reuse is not None else None
+    if previous is not None:
+        setting["reused"] = {"dir": str(ns.reuse), "frames": len(previous["tau"])}
     rd = ResultDir(dest, "analysis", force=ns.force, outputs=("analysis.npz",),
                    fingerprint=setting).create()
     with rd.stage("analyze"):
-        res = analyze_frames(frames, gamma0, progress=not ns.no_progress and sys.stderr.isatty())
+        res = analyze_frames(frames, gamma0, progress=not ns.no_progress and sys.stderr.isatty(),
+                             previous=previous)
     numbers, arrays = res.to_json(), res.npz_arrays()
     if not ns.no_spectra:
         from fricstab.analysis.shear_slips import slip_spectra
         with rd.stage("slip spectra"):
             spectra = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], params,
                                    progress=not ns.no_progress and sys.stderr.isatty(),
-                                   route=ns.spectra, k=k)
+                                   route=ns.spectra, k=k,
+                                   previous=previous if previous and "slip_frame" in previous
+                                   else None)
         numbers["slip_spectra"] = spectra.summary()
         arrays.update(spectra.arrays())
     rd.write_npz("analysis.npz", **arrays)
@@ -155,6 +168,26 @@ def analyze(ns, argv):
           f"{dest}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
     return 0
 
+
+def _previous(folder, setting, frames):
+    """The arrays of the analysis in ``folder`` to reuse (its slip spectra if of the same route and k)."""
+    import json
+
+    from fricstab.analysis.shear import check_previous
+    from fricstab.io import rundir
+    folder = Path(folder).expanduser()
+    rundir.verify(folder, "analysis")     # a complete analysis, its files as recorded
+    done = json.loads((folder / "analysis.json").read_text()).get("parameters", {})
+    with np.load(folder / "analysis.npz") as z:
+        arrays = {name: z[name] for name in z.files}
+    try:
+        check_previous(frames, arrays)
+    except ParameterError as exc:
+        raise ParameterError(f"--reuse: {folder}: {exc}") from None
+    if (done.get("spectra"), done.get("spectra_k")) != (setting["spectra"],
+                                                        setting["spectra_k"]):
+        arrays = {k: v for k, v in arrays.items() if not k.startswith("slip_")}
+    return arrays
 
 def _analysis_outputs(rd, frames, res, numbers, arrays):
     """analysis.md (Spearman tables) and the figures of Figs. 2, 8-10 and the slip spectra."""
