@@ -193,8 +193,9 @@ def slip_spectra(frames, phases, dtau_p, params, progress=False, route="soft", k
             r = done[f]
             for c in cols:
                 v = previous[f"slip_{c}"][r]
-                cols[c].append("(reused)" if c == "fallback" and v else
-                               ("" if c == "fallback" else v))
+                if c == "fallback":     # stored as a bool; the reason stayed in that analysis
+                    v = "(reused)" if v else ""
+                cols[c].append(v)
             soft[s] = previous["slip_softest"][r]
             continue
         ij, _, _, hist, flag = frames.contacts(f)

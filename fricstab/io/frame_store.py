@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fricstab.io.frames import _PER_PARTICLE, Frames, _readonly, read_arrays, subset_of
+from fricstab.io.frames import (_PER_PARTICLE, Frames, _readonly, frame_index, read_arrays,
+                                 subset_of)
 from fricstab.laws import ParameterError
 
 __all__ = ["FrameStore"]
@@ -63,9 +64,11 @@ class FrameStore:
             raise ParameterError(f"FrameStore: cache must be >= 2 chunks, got {cache}")
         self._cache, self._size = OrderedDict(), int(cache)
         series, counts = {n: [] for n in SERIES}, []
-        header0, first = read_arrays(self.files[0], _PER_PARTICLE + ("contact_hist",))
+        header0 = first = None
         for f in self.files:
             header, a = read_arrays(f, _PER_PARTICLE + SERIES + ("contact_hist",))
+            if first is None:     # the first chunk: what every other must agree with
+                header0, first = header, a
             if header["lx"] != header0["lx"] or a["contact_hist"].shape[1:] != \
                     first["contact_hist"].shape[1:] or not all(
                     np.array_equal(a[n], first[n]) for n in ("radius", "kind")):
@@ -100,10 +103,7 @@ class FrameStore:
 
     def _locate(self, k):
         """(the chunk's Frames, the frame's index in it) of frame ``k`` (negative from the end)."""
-        k = int(k)
-        if not -self.n_frames <= k < self.n_frames:
-            raise ParameterError(f"frame k={k} out of range [0, {self.n_frames})")
-        k %= self.n_frames
+        k = frame_index(k, self.n_frames)
         c = bisect.bisect_right(self._start, k) - 1
         if c not in self._cache:
             chunk = Frames.load(self.files[c])

@@ -51,7 +51,7 @@ import numpy as np
 
 from fricstab.laws import ParameterError
 
-__all__ = ["FORMAT", "FrameWriter", "Frames", "read_arrays", "subset_of",
+__all__ = ["FORMAT", "FrameWriter", "Frames", "frame_index", "read_arrays", "subset_of",
            "synthetic_frames"]
 
 FORMAT = "fricstab.io.frames/2"  # /2: contact_hist (M, H), contact_flag
@@ -178,10 +178,7 @@ class Frames:
 
     def contacts(self, k):
         """Contacts of frame ``k``: ``(ij, force, fn, hist, flag)`` (views)."""
-        k = int(k)
-        if not -self.n_frames <= k < self.n_frames:
-            raise ParameterError(f"frame k={k} out of range [0, {self.n_frames})")
-        k %= self.n_frames
+        k = frame_index(k, self.n_frames)
         s = slice(self.contact_ptr[k], self.contact_ptr[k + 1])
         return tuple(getattr(self, name)[s] for name in _PER_CONTACT)
 
@@ -352,6 +349,14 @@ class FrameWriter:
             arrays[name] = np.concatenate(f[name])
         arrays["contact_ptr"] = np.concatenate([[0], np.cumsum(self._counts)])
         return Frames(meta=self.meta, **self._const, **arrays)
+
+
+def frame_index(k, n_frames):
+    """Frame ``k`` in [0, n_frames) (negative counts from the end); ParameterError if out of range."""
+    k = int(k)
+    if not -n_frames <= k < n_frames:
+        raise ParameterError(f"frame k={k} out of range [0, {n_frames})")
+    return k % n_frames
 
 
 def subset_of(source, frames):
