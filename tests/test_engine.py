@@ -248,3 +248,33 @@ def test_servo_holds_the_force_on_a_driven_lid():
     ctl = Controls(drag=2.0, servo=(0.05, 3.0, 0.05))
     out = run(system, state, 0.01, 40000, ctl)
     assert abs(out.driven_force[1] / 3.0 - 1.0) < 0.01
+
+
+def test_driven_force_reads_only_the_driven_contacts_with_the_same_sums():
+    """The servo's measured force summed over the driven-contact list equals, to the bit, the
+    same sum over every contact in contact order (what the engine did before the list)."""
+    from fricstab.engine import parallel, passes
+
+    rng = np.random.default_rng(3)
+    n, k = 40, 300
+    family = rng.choice([0, 1, 2], n, p=[0.7, 0.15, 0.15])
+    ci = np.sort(rng.integers(0, n, k))
+    cj = np.where(rng.random(k) < 0.1, -1, rng.integers(0, n, k))
+    live = (rng.random(k) < 0.8).astype(np.int8)
+    fcon = rng.standard_normal((k, 6))
+    drv = passes.driven_contacts(ci, cj, family)
+    assert 0 < len(drv) < k and np.all(np.diff(drv) > 0)
+    meas = np.zeros(8)
+    passes.driven_force(drv, ci, cj, live, fcon, family, meas)
+    want = [0.0, 0.0]
+    for c in range(k):   # the loop over every contact, as the engine had it
+        if cj[c] < 0 or not live[c]:
+            continue
+        for b in range(2):
+            if family[ci[c]] == 2:
+                want[b] += fcon[c, b]
+            if family[cj[c]] == 2:
+                want[b] -= fcon[c, b]
+    assert meas[0] == want[0] and meas[1] == want[1]
+    contacts = type("C", (), {"n": k, "i": ci, "j": cj})()
+    assert np.array_equal(parallel.workspace(contacts, n, 2, family)[4], drv)

@@ -118,11 +118,14 @@ def chunks(n_particles):
     return threads
 
 
-def workspace(contacts, n, n_chunks):
-    """Scratch of :func:`advance_pass` for a contact list: ``(fcon, live, pstart, pidx, work, errs)``."""
+def workspace(contacts, n, n_chunks, family):
+    """Scratch of :func:`advance_pass` for a contact list: ``(fcon, live, pstart, pidx, drv,
+    work, errs)``; ``drv`` lists the contacts that touch a driven particle (``family`` 2), in
+    contact order (:func:`~fricstab.engine.passes.driven_force` reads only their rows)."""
     k = contacts.n
     pstart, pidx = passes.layout(contacts.i, contacts.j, n)
     return (np.zeros((k, 6)), np.zeros(k, np.int8), pstart, pidx,
+            passes.driven_contacts(contacts.i, contacts.j, family),
             np.zeros((n_chunks, 8, 6)), np.full(n_chunks, -1, np.int64))
 
 
@@ -166,7 +169,7 @@ def _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, dam
 @hot_jit
 def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj,
                  cm, ck, hist, flag, cout, ext, family, f, dof, meas, want_out, track_driven,
-                 fcon, live, pstart, pidx, work, errs, ginv, half, implicit, kick):
+                 fcon, live, pstart, pidx, drv, work, errs, ginv, half, implicit, kick):
     """One dynamics step of every contact at ``q``; forces into ``f`` (``ext`` first).
 
     ``box`` as in :func:`~fricstab.engine.passes.advance_range`; the scratch
@@ -214,7 +217,7 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
         if kick:
             bad_f = kick_range(k - k, q.shape[0], f, v, ginv, family, dof, half, implicit)
     if track_driven:
-        passes.driven_force(ci, cj, live, fcon, family, meas)
+        passes.driven_force(drv, ci, cj, live, fcon, family, meas)
     else:
         meas[0] = 0.0
         meas[1] = 0.0

@@ -42,8 +42,8 @@ from fricstab.engine.contacts import separation
 from fricstab.generated.dispatch import (pair_advance, pair_eval, pair_project, pair_rate,
                                          wall_advance, wall_eval, wall_project, wall_rate)
 
-__all__ = ["advance_range", "contact_pass", "driven_force", "eval_pass", "gather_range",
-           "increment_pass", "layout", "project_pass"]
+__all__ = ["advance_range", "contact_pass", "driven_contacts", "driven_force", "eval_pass",
+           "gather_range", "increment_pass", "layout", "project_pass"]
 
 
 
@@ -339,11 +339,16 @@ def gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
 
 
 @hot_jit
-def driven_force(ci, cj, live, fcon, family, meas):
-    """``meas[0:2]``: the pair-contact force on the driven particles (family 2), in contact order."""
+def driven_force(drv, ci, cj, live, fcon, family, meas):
+    """``meas[0:2]``: the pair-contact force on the driven particles (family 2), in contact order.
+
+    ``drv`` (:func:`driven_contacts`) lists the contacts that may touch them: the
+    same sums as a loop over every contact, reading ~1 row in 30 (a row written on
+    another thread is a cache line brought from its core).
+    """
     meas[0] = 0.0
     meas[1] = 0.0
-    for c in range(ci.shape[0]):
+    for c in drv:
         j = cj[c]
         if j < 0 or not live[c]:
             continue
@@ -353,6 +358,15 @@ def driven_force(ci, cj, live, fcon, family, meas):
         if family[j] == 2:
             meas[0] -= fcon[c, 0]
             meas[1] -= fcon[c, 1]
+
+
+def driven_contacts(ci, cj, family):
+    """The contacts with a driven particle (family 2) on either side, in increasing order."""
+    ci, cj = np.asarray(ci), np.asarray(cj)
+    pair = cj >= 0
+    touch = family[ci] == 2
+    touch[pair] |= family[cj[pair]] == 2
+    return np.flatnonzero(touch).astype(np.int64)
 
 
 def layout(ci, cj, n):

@@ -140,7 +140,7 @@ def _drift(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
 def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, family, ext,
           lx, ly, shiftv, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas,
           dt, step0, n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every,
-          dqh, fcon, live, pstart, pidx, work, errs):
+          dqh, fcon, live, pstart, pidx, drv, work, errs):
     """Steps ``step0 .. n_steps - 1``; returns (step, status, item, frame, residual).
 
     ``shiftv = [shift, ref_shift, time]`` is updated in place.  ``mid``: the
@@ -207,8 +207,8 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
         bad, bad_f = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp,
                                            idamp, box, damp, ci, cj, cm, ck, hist, flag, cout,
                                            ext, family, f, dof, meas, step == n_steps - 1,
-                                           n_drv > 0, fcon, live, pstart, pidx, work, errs, ginv,
-                                           half, implicit, n_drv >= 0)
+                                           n_drv > 0, fcon, live, pstart, pidx, drv, work, errs,
+                                           ginv, half, implicit, n_drv >= 0)
         if bad >= 0:
             return step + 1, BAD_LAW, bad, frame, residual
         if bad_f >= 0:
@@ -330,7 +330,7 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             end = min(n_steps, step + chunk)
         if state.contacts is not c or space is None:
             c = state.contacts
-            space = parallel.workspace(c, system.n, n_chunks)
+            space = parallel.workspace(c, system.n, n_chunks, system.family)
         if record_hist and c.n != rec_h.shape[1]:
             raise ValueError("record_hist needs a contact list that never changes")
         step, status, item, frame, residual = _loop(

@@ -141,7 +141,11 @@ def measure(state_path, calls, repeats):
     sim, prep_s = _cell(state_path)
     system, state = sim.system, sim.state
     c, n = state.contacts, len(system.radius)
-    fcon, live, _, _, work, _ = parallel.workspace(c, n, 1)
+    try:
+        space = parallel.workspace(c, n, 1, system.family)
+    except TypeError:   # a revision before the driven-contact list (--against)
+        space = parallel.workspace(c, n, 1)
+    fcon, live, work = space[0], space[1], space[-2]
     dq = np.zeros((n, 3))
     box = np.array([system.lx, system.ly, float(state.shift), 0.0, 0.0])
     args = (system.law_id, system._p, system._pw, system.walls, state.q, dq, state.v,
