@@ -230,3 +230,17 @@ def test_paper_comparison_script_reads_a_complete_and_a_partial_analysis(run_dir
         doc = json.loads(md.with_suffix(".json").read_text())
         assert doc["complete"] == (word == "(complete)")
         assert (tmp_path / "out" / "paper_dtau_p.png").stat().st_size > 1000
+
+
+def test_paper_comparison_states_the_wall_time_of_a_resumed_run():
+    """A run finished by a resumed process: its own share and the whole run at its rate."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation"))
+    from shear_paper import run_wall
+    rec = {"derived": {"n_particles": 1000, "steps_per_frame": 500}, "frames": 101,
+           "shear_seconds_this_process": 3600.0, "throughput_particle_steps_per_s": 1e4}
+    # 3,600 s at 1e4 particle-steps/s: 36,000 steps of the 50,000 (72 %); all at that rate 5000 s
+    text = run_wall(rec, {"seconds": 600.0})
+    assert text.startswith("prepare 10 min + shear 1.00 h in the last process (its 72% of the 50,000")
+    assert text.endswith("all of them at that rate 1.4 h")
+    rec["shear_seconds_this_process"] = 5000.0   # the whole run in one process
+    assert run_wall(rec, {"seconds": 600.0}) == "prepare 10 min + shear 1.39 h"

@@ -130,6 +130,21 @@ def dtau_distribution(dtau, path):
     return rows
 
 
+def run_wall(shear, prep):
+    """The wall time of a complete run from its record: the process that finished it, and
+    (when it resumed from a checkpoint) all its frames at that process's throughput."""
+    n = shear["derived"]["n_particles"]
+    total = (shear["frames"] - 1) * shear["derived"]["steps_per_frame"]   # sheared steps
+    seconds, rate = shear["shear_seconds_this_process"], shear["throughput_particle_steps_per_s"]
+    text = f"prepare {prep['seconds'] / 60:.0f} min + shear {seconds / 3600:.2f} h"
+    own = round(seconds * rate / n) if rate else total
+    if own < total:   # resumed: this process sheared only the last frames
+        text += (f" in the last process (its {own / total:.0%} of the {total:,} sheared steps, "
+                 f"{rate:.3g} particle-steps/s); all of them at that rate "
+                 f"{total * n / rate / 3600:.1f} h")
+    return text
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run", type=Path, help="the run directory (fricstab shear run --preset paper)")
@@ -169,9 +184,7 @@ def main(argv=None):
     n_steps, rate = s["n_steps"], s["phases_per_step"]
     k0, k1 = s["largest_drop_steps"] or (0, 0)
     if complete:
-        tm = shear["timings"]
-        wall = (f"prepare {tm['prepare']['wall_s'] / 60:.0f} min + shear "
-                f"{tm['shear']['wall_s'] / 3600:.2f} h")
+        wall = run_wall(shear, prep)
         reach = f"{strain[-1]:.4f} (complete)"
     else:
         wall = f"prepare {prep['seconds'] / 60:.0f} min; shear still running"
