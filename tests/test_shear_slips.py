@@ -229,6 +229,11 @@ def test_paper_comparison_script_reads_a_complete_and_a_partial_analysis(run_dir
         assert len(verdicts) == len(shear_paper.STATEMENTS) and word in text
         doc = json.loads(md.with_suffix(".json").read_text())
         assert doc["complete"] == (word == "(complete)")
+        # the strain windows share out the window's steps (a phase cut by an edge counts twice)
+        along = doc["along_the_run"]
+        assert sum(r["steps"] for r in along) == doc["summary"]["n_steps"]
+        assert 0 <= sum(r["phases"]
+                        for r in along) - doc["summary"]["n_phases"] <= max(len(along) - 1, 0)
         assert (tmp_path / "out" / "paper_dtau_p.png").stat().st_size > 1000
 
 

@@ -104,6 +104,23 @@ def interval_table(strain, tau, gamma0, dgamma, every=(1, 2, 4, 7, 14, 28)):
     return rows
 
 
+def window_table(strain, tau, gamma0, width=0.02):
+    """Phases per output step in consecutive strain windows of ``width`` from ``gamma0``:
+    whether the rate is steady along the run (phases are found within each window)."""
+    from fricstab.analysis.shear import find_phases
+    rows, lo = [], gamma0
+    while lo < strain[-1]:
+        hi = min(lo + width, float(strain[-1]))
+        ok = np.zeros(len(tau), bool)
+        ok[1:] = (strain[:-1] >= lo) & (strain[:-1] < hi)
+        n = int(ok.sum())
+        if n:
+            k = len(find_phases(tau, ok))
+            rows.append({"from": lo, "to": hi, "steps": n, "phases": k, "per_step": k / n})
+        lo += width
+    return rows
+
+
 def dtau_distribution(dtau, path):
     """Counts of |Delta tau_p| per decade for stick and slip phases, and its figure."""
     from fricstab.figures.common import finish, pyplot
@@ -210,6 +227,7 @@ def main(argv=None):
                      f"{sp['slips_with_complex_pairs']} of {sp['n_slips']}"))
     quick = json.loads((HERE / "shear_quick.json").read_text())["phases"]
     knob = interval_table(strain, arrays["tau"], s["gamma0"], 7.2e-7)
+    along = window_table(strain, arrays["tau"], s["gamma0"])
     verdicts = [(fig, words, *judge(t, table, series, bins, classes))
                 for fig, table, series, bins, classes, words in STATEMENTS]
     lines = [
@@ -228,6 +246,11 @@ def main(argv=None):
         "|---|---|---|---|---|",
         *(f"| {r['every']} | {r['dgamma']:.2e} | {r['steps']} | {r['phases']} | "
           f"{r['per_step']:.3f} |" for r in knob), "",
+        "## Along the run: phases per step in windows of 2 % strain", "",
+        "Phases found within each window (a phase cut by a window's edge counts in both).", "",
+        "| strain window | output steps | phases | phases per step |", "|---|---|---|---|",
+        *(f"| {100 * r['from']:.2f}-{100 * r['to']:.2f} % | {r['steps']} | {r['phases']} | "
+          f"{r['per_step']:.3f} |" for r in along), "",
         "## The paper's statements on Figs. 9-10 against our coefficients", "",
         "Bands: |rho| < 0.4 weak, 0.4-0.7 moderate, >= 0.7 strong (the paper states none); "
         "cells with p > 0.05 are not judged, as the paper omits them.", "",
@@ -248,7 +271,7 @@ def main(argv=None):
     ns.md.write_text("\n".join(lines) + "\n")
     stem.with_suffix(".json").write_text(json.dumps(
         {"complete": complete, "strain_reached": float(strain[-1]), "summary": s,
-         "frame_interval": knob,
+         "frame_interval": knob, "along_the_run": along,
          "verdicts": [{"figure": f, "paper": w, "ours": c, "verdict": v}
                       for f, w, c, v in verdicts], "dtau_p": dist, "wall": wall}, indent=1))
     print(f"wrote {ns.md}: {s['n_phases']} phases in {n_steps} steps ({rate:.3f} per step; "
