@@ -98,9 +98,9 @@ def interval_table(strain, tau, gamma0, dgamma, every=(1, 2, 4, 7, 14, 28)):
         n = int(ok.sum())
         if n < 10:
             continue
-        rows.append({"every": k, "dgamma": k * dgamma, "steps": n,
-                     "phases": len(find_phases(t, ok)),
-                     "per_step": len(find_phases(t, ok)) / n})
+        m = len(find_phases(t, ok))
+        rows.append({"every": k, "dgamma": k * dgamma, "steps": n, "phases": m,
+                     "per_step": m / n})
     return rows
 
 
