@@ -30,9 +30,14 @@ For each law of :mod:`symbolic.laws` one module is written with
     geometry, zeros without contact;
   - ``<law>_project(G, p, h) -> flags``: ``h`` replaced in place by the
     admissible history (zero without contact, on the cap beyond it);
-  - ``<law>_advance(G, p, h, du, f, aux) -> flags``: one dynamics step of one
-    contact with the geometry computed once: ``h += a @ du``, project, forces
-    from the projected history into ``f``, ``aux[0:4] = CONTACT`` values;
+  - ``<law>_advance(G, p, h, D, f, aux, want_aux) -> flags``: one dynamics
+    step of one contact with the geometry computed once: ``h += a @ du``
+    (``D = du`` for a wall, ``dui, duj, dxj`` for a pair: the rows of i and j
+    and the extra x of j's image, read in place),
+    project, forces from the projected history into ``f``, and with
+    ``want_aux`` ``aux[0:4] = CONTACT`` values (the dashpots' stiffnesses and
+    the elastic normal force; the engine asks for them only when it uses them:
+    four stores fewer per contact, ~6 % of the packing's pass);
 
   flags: bit 1 the tangential history is on its cap (sliding), bit 2 the
   rolling one; 0 without contact;

@@ -228,8 +228,9 @@ def _cmd_laws():
         print(f"    {name}_eval({geo}, p, h, f, jac, want_jac)   forces f and K = dF/dq")
         print(f"    {name}_rate({geo}, p, a)   increment rule dh = a dq")
         print(f"    {name}_project({geo}, p, h) -> flags   history onto its admissible set")
-        print(f"    {name}_advance({geo}, p, h, du, f, aux) -> flags   one dynamics step;"
-              f" aux = ({', '.join(law.contact)})")
+        disp = "du" if law.kind == "wall" else "dui, duj, dxj"
+        print(f"    {name}_advance({geo}, p, h, {disp}, f, aux, want_aux) -> flags   one dynamics"
+              f" step; aux = ({', '.join(law.contact)}) if want_aux")
         print(f"    p = ({', '.join(law.params)}), h = ({', '.join(law.history) or '-'})")
         print("  parameters:")
         for p, u, d in zip(law.params, law.param_units, law.param_docs):

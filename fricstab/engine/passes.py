@@ -219,12 +219,25 @@ def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     contact order: the same sums, to the bit, as :func:`gather_range` forms,
     without a second pass.
 
-    The loop is compiled twice: with the dof as the constant 3 (the laws with
-    a rotation; the loops over the dof unroll, ~15 % of the pass) and as a
-    variable (the frictionless ``hertz``, 2).
+    The loop is compiled once per law, with the law id and the dof as
+    constants (the law's kernel alone in its loop, the dispatch folded away,
+    the loops over the dof unrolled), and once with both as variables (the
+    frictionless ``hertz``, whose dof is 2, and any law added without a
+    branch here); one compiled signature serves them all.  What each choice
+    of the loop is worth is measured in docs/concepts/performance.md.
     """
-    if dof == 3:
-        _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
+    # one branch per law with a rotation (dispatch.N_DOF[law] == 3); the last
+    # branch is correct for every law
+    if law == 1 and dof == 3:
+        _advance_loop(lo, hi, 1, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
+                      damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f,
+                      scatter)
+    elif law == 2 and dof == 3:
+        _advance_loop(lo, hi, 2, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
+                      damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f,
+                      scatter)
+    elif law == 3 and dof == 3:
+        _advance_loop(lo, hi, 3, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
                       damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f,
                       scatter)
     else:
@@ -236,7 +249,13 @@ def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
 @hot_inline_jit
 def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp,
                   ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
-    """The body of :func:`advance_range`, inlined into it once per value of ``dof``."""
+    """The body of :func:`advance_range`, inlined into it once per law branch.
+
+    Particle indices are read as unsigned integers where they index arrays:
+    numba then omits the wraparound of negative indices (a wall contact's
+    ``j < 0`` is decoded before).  The kernels write ``aux`` only when a
+    dashpot or ``cout`` reads it (``want_aux``).
+    """
     lx, ly, shift, dshift, shift_rate = box[0], box[1], box[2], box[3], box[4]
     nd = 2 * dof
     du = work[1, :nd]
@@ -246,14 +265,32 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     zero3 = work[5, :3]
     zero3[:] = 0.0
     damped = damp[0] > 0.0 or damp[1] > 0.0 or damp[2] > 0.0
+    want_aux = damped or want_out   # the kernels' aux: the dashpots' stiffnesses, cout[:, 2]
+    # scatter: the force on the current i is summed in registers (contacts are
+    # sorted by i) and stored when i changes; the same additions in the same order
+    cur = -1
+    a0 = a1 = a2 = 0.0
     for c in range(lo, hi):
         i = ci[c]
         j = cj[c]
+        iu = np.uint64(i)
         fc = fcon[c, :nd]
+        if scatter and i != cur:
+            if cur >= 0:
+                f[cur, 0] = a0
+                f[cur, 1] = a1
+                f[cur, 2] = a2
+            cur = i
+            a0 = f[iu, 0]
+            a1 = f[iu, 1]
+            a2 = f[iu, 2]
         live[c] = 1
         if j >= 0:
-            dx, dy = separation(q, i, j, cm[c], ck[c], lx, ly, shift)
-            if _apart(dx, dy, radius[i], radius[j]):
+            ju = np.uint64(j)
+            dx, dy = separation(q, iu, ju, cm[c], ck[c], lx, ly, shift)
+            ri = radius[iu]
+            rj = radius[ju]
+            if _apart(dx, dy, ri, rj):
                 for b in range(hist.shape[1]):
                     hist[c, b] = 0.0  # a contact that opened forgets its history
                 flag[c] = 0
@@ -263,11 +300,8 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                     cout[c, 1] = 0.0
                     cout[c, 2] = 0.0
                 continue
-            for b in range(dof):
-                du[b] = dq[i, b]
-                du[dof + b] = dq[j, b]
-            du[dof] += ck[c] * dshift
-            fl = pair_advance(law, dx, dy, radius[i], radius[j], p, hist[c], du, fc, aux)
+            fl = pair_advance(law, dx, dy, ri, rj, p, hist[c], dq[iu], dq[ju], ck[c] * dshift,
+                              fc, aux, want_aux)
             if damped and aux[3] > 0.0:
                 for b in range(3):
                     vj[b] = v[j, b]
@@ -288,7 +322,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
             y = (q[i, 1] - walls[w, 0]) * d
             for b in range(dof):
                 du[b] = dq[i, b] * (d if b < 2 else 1.0)
-            fl = wall_advance(law, y, radius[i], pw, hist[c], du, fc, aux)
+            fl = wall_advance(law, y, radius[i], pw, hist[c], du, fc, aux, want_aux)
             if damped and aux[3] > 0.0:
                 vj[0] = d * v[i, 0]
                 vj[1] = d * v[i, 1]
@@ -305,16 +339,28 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
             fc[0] = fc[0] * d
             fc[1] = fc[1] * d
         if scatter:
-            for b in range(dof):
-                f[i, b] += fc[b]
-            if j >= 0:
+            a0 += fc[0]
+            a1 += fc[1]
+            if dof == 3:
+                a2 += fc[2]
+            if j == i:   # i's own periodic image
+                a0 += fc[dof]
+                a1 += fc[dof + 1]
+                if dof == 3:
+                    a2 += fc[5]
+            elif j >= 0:
+                ju = np.uint64(j)
                 for b in range(dof):
-                    f[j, b] += fc[dof + b]
+                    f[ju, b] += fc[dof + b]
         flag[c] = fl
         if want_out:
             cout[c, 0] = fc[0]
             cout[c, 1] = fc[1]
             cout[c, 2] = aux[3]
+    if cur >= 0:
+        f[cur, 0] = a0
+        f[cur, 1] = a1
+        f[cur, 2] = a2
 
 
 @hot_jit

@@ -11,9 +11,9 @@ with the tangential history advanced by the increment rule.
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``charan_wall_eval(y, R, p, h, f, jac, want_jac)``,
 ``charan_wall_rate(y, R, p, a)``, ``charan_wall_project(y, R, p, h) -> flags``,
-``charan_wall_advance(y, R, p, h, du, f, aux) -> flags``; p = PARAMS values,
+``charan_wall_advance(y, R, p, h, du, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 1 entries), f (3), jac (3 x 3),
-a (1 x 3), du (3), aux (4: kn, kt, kr, fn);
+a (1 x 3), du (3), aux (4: kn, kt, kr, fn; written only with want_aux);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -176,16 +176,17 @@ def charan_wall_project(y, R, p, h):
 
 
 @hot_inline_jit
-def charan_wall_advance(y, R, p, h, du, f, aux):
-    """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT; returns the flags."""
+def charan_wall_advance(y, R, p, h, du, f, aux, want_aux):
+    """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT if want_aux; returns the flags."""
     delta = R - y
     if delta <= 0.0:  # no contact: forget the history
         for k in range(1):
             h[k] = 0.0
         for k in range(3):
             f[k] = 0.0
-        for k in range(4):
-            aux[k] = 0.0
+        if want_aux:
+            for k in range(4):
+                aux[k] = 0.0
         return 0
     kn = p[0]
     kt = p[1]
@@ -206,8 +207,9 @@ def charan_wall_advance(y, R, p, h, du, f, aux):
     f[0] = -c0
     f[1] = delta*kn*sdelta
     f[2] = -R*c0
-    aux[0] = g0
-    aux[1] = kt*sdelta
-    aux[2] = 0.0
-    aux[3] = delta*g0
+    if want_aux:
+        aux[0] = g0
+        aux[1] = kt*sdelta
+        aux[2] = 0.0
+        aux[3] = delta*g0
     return flags

@@ -11,9 +11,9 @@ with the tangential history advanced by the increment rule.
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``hertz_wall_eval(y, R, p, h, f, jac, want_jac)``,
 ``hertz_wall_rate(y, R, p, a)``, ``hertz_wall_project(y, R, p, h) -> flags``,
-``hertz_wall_advance(y, R, p, h, du, f, aux) -> flags``; p = PARAMS values,
+``hertz_wall_advance(y, R, p, h, du, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 0 entries), f (2), jac (2 x 2),
-a (0 x 2), du (2), aux (4: kn, kt, kr, fn);
+a (0 x 2), du (2), aux (4: kn, kt, kr, fn; written only with want_aux);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -104,22 +104,24 @@ def hertz_wall_project(y, R, p, h):
 
 
 @hot_inline_jit
-def hertz_wall_advance(y, R, p, h, du, f, aux):
-    """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT; returns the flags."""
+def hertz_wall_advance(y, R, p, h, du, f, aux, want_aux):
+    """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT if want_aux; returns the flags."""
     delta = R - y
     if delta <= 0.0:  # no contact: forget the history
         for k in range(2):
             f[k] = 0.0
-        for k in range(4):
-            aux[k] = 0.0
+        if want_aux:
+            for k in range(4):
+                aux[k] = 0.0
         return 0
     kn = p[0]
     sdelta = np.sqrt(delta)
     g0 = kn*sdelta
     f[0] = 0.0
     f[1] = delta*kn*sdelta
-    aux[0] = g0
-    aux[1] = 0.0
-    aux[2] = 0.0
-    aux[3] = delta*g0
+    if want_aux:
+        aux[0] = g0
+        aux[1] = 0.0
+        aux[2] = 0.0
+        aux[3] = delta*g0
     return 0

@@ -11,9 +11,9 @@ with the tangential history advanced by the increment rule.
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``ishima_eval(dx, dy, Ri, Rj, p, h, f, jac, want_jac)``,
 ``ishima_rate(dx, dy, Ri, Rj, p, a)``, ``ishima_project(dx, dy, Ri, Rj, p, h) -> flags``,
-``ishima_advance(dx, dy, Ri, Rj, p, h, du, f, aux) -> flags``; p = PARAMS values,
+``ishima_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 2 entries), f (6), jac (6 x 6),
-a (2 x 6), du (6), aux (4: kn, kt, kr, fn);
+a (2 x 6), dui, duj (3: the step's displacements of i and j), dxj (j's image's extra x), aux (4: kn, kt, kr, fn; written only with want_aux);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -252,8 +252,8 @@ def ishima_project(dx, dy, Ri, Rj, p, h):
 
 
 @hot_inline_jit
-def ishima_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
-    """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT; returns the flags."""
+def ishima_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux):
+    """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT if want_aux; returns the flags."""
     r = np.sqrt(dx * dx + dy * dy)
     delta = Ri + Rj - r
     # the accurate overlap of the force kernels, reusing r (fricstab/_numerics.py)
@@ -263,8 +263,9 @@ def ishima_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
             h[k] = 0.0
         for k in range(6):
             f[k] = 0.0
-        for k in range(4):
-            aux[k] = 0.0
+        if want_aux:
+            for k in range(4):
+                aux[k] = 0.0
         return 0
     kn = p[0]
     kt = p[1]
@@ -277,8 +278,8 @@ def ishima_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
     g3 = (nx * nx)
     g4 = -nx
     g5 = kn*sdelta
-    h[0] = h[0] + ((g0) * du[0] + (g2) * du[1] + (ny) * du[2] + (-g0) * du[3] + (g1) * du[4] + (ny) * du[5])
-    h[1] = h[1] + ((g2) * du[0] + (g3) * du[1] + (g4) * du[2] + (g1) * du[3] + (-g3) * du[4] + (g4) * du[5])
+    h[0] = h[0] + ((g0) * dui[0] + (g2) * dui[1] + (ny) * dui[2] + (-g0) * (duj[0] + dxj) + (g1) * duj[1] + (ny) * duj[2])
+    h[1] = h[1] + ((g2) * dui[0] + (g3) * dui[1] + (g4) * dui[2] + (g1) * (duj[0] + dxj) + (-g3) * duj[1] + (g4) * duj[2])
     tx = h[0]
     ty = h[1]
     c0 = kt*sdelta
@@ -294,10 +295,11 @@ def ishima_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
     f[3] = -c3
     f[4] = -c5
     f[5] = c6
-    aux[0] = g5
-    aux[1] = kt*sdelta
-    aux[2] = 0.0
-    aux[3] = delta*g5
+    if want_aux:
+        aux[0] = g5
+        aux[1] = kt*sdelta
+        aux[2] = 0.0
+        aux[3] = delta*g5
     return 0
 
 

@@ -17,9 +17,9 @@ kn, kt, kr, fn, ftc, mrc, sliding flag
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``lee_hurley_eval(dx, dy, Ri, Rj, p, h, f, jac, want_jac)``,
 ``lee_hurley_rate(dx, dy, Ri, Rj, p, a)``, ``lee_hurley_project(dx, dy, Ri, Rj, p, h) -> flags``,
-``lee_hurley_advance(dx, dy, Ri, Rj, p, h, du, f, aux) -> flags``; p = PARAMS values,
+``lee_hurley_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 2 entries), f (6), jac (6 x 6),
-a (2 x 6), du (6), aux (4: kn, kt, kr, fn);
+a (2 x 6), dui, duj (3: the step's displacements of i and j), dxj (j's image's extra x), aux (4: kn, kt, kr, fn; written only with want_aux);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -392,8 +392,8 @@ def lee_hurley_project(dx, dy, Ri, Rj, p, h):
 
 
 @hot_inline_jit
-def lee_hurley_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
-    """One dynamics step at this geometry (width solved once): h += a @ du, cap, forces from the capped history into f, aux = CONTACT; returns the flags."""
+def lee_hurley_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux):
+    """One dynamics step at this geometry (width solved once): h += a @ du, cap, forces from the capped history into f, aux = CONTACT if want_aux; returns the flags."""
     r = np.sqrt(dx * dx + dy * dy)
     delta = Ri + Rj - r
     # the accurate overlap of the force kernels, reusing r (fricstab/_numerics.py)
@@ -403,8 +403,9 @@ def lee_hurley_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
             h[k] = 0.0
         for k in range(6):
             f[k] = 0.0
-        for k in range(4):
-            aux[k] = 0.0
+        if want_aux:
+            for k in range(4):
+                aux[k] = 0.0
         return 0
     E = p[0]
     nu = p[1]
@@ -432,8 +433,8 @@ def lee_hurley_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
     g13 = g8/lam
     if not g7 > 0.0:
         raise ValueError("lee_hurley: Lai's k_t (Eqs. A8-A9) has a nonpositive denominator: contact width a too large for the fit")
-    h[0] = h[0] + ((-g10) * du[0] + (g11) * du[1] + (-Ri*g9) * du[2] + (g10) * du[3] + (-g11) * du[4] + (-Rj*g9) * du[5])
-    h[1] = h[1] + ((-g12) * du[2] + (g12) * du[5])
+    h[0] = h[0] + ((-g10) * dui[0] + (g11) * dui[1] + (-Ri*g9) * dui[2] + (g10) * (duj[0] + dxj) + (-g11) * duj[1] + (-Rj*g9) * duj[2])
+    h[1] = h[1] + ((-g12) * dui[2] + (g12) * duj[2])
     # the caps exactly as the force kernels compute them (A10, A18)
     cap_t = np.pi*E*delta*mus/lam
     cap_r = np.pi*E*Ri*Rj*delta*mur/(lam*(Ri + Rj))
@@ -457,10 +458,11 @@ def lee_hurley_advance(dx, dy, Ri, Rj, p, h, du, f, aux):
     f[3] = -c1
     f[4] = -c2
     f[5] = Rj*ftc - mrc
-    aux[0] = g13
-    aux[1] = g9
-    aux[2] = g12
-    aux[3] = delta*g13
+    if want_aux:
+        aux[0] = g13
+        aux[1] = g9
+        aux[2] = g12
+        aux[3] = delta*g13
     return flags
 
 

@@ -17,9 +17,9 @@ kn, kt, kr, fn, ftc, mrc, sliding flag
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``lee_hurley_wall_eval(y, R, p, h, f, jac, want_jac)``,
 ``lee_hurley_wall_rate(y, R, p, a)``, ``lee_hurley_wall_project(y, R, p, h) -> flags``,
-``lee_hurley_wall_advance(y, R, p, h, du, f, aux) -> flags``; p = PARAMS values,
+``lee_hurley_wall_advance(y, R, p, h, du, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 2 entries), f (3), jac (3 x 3),
-a (2 x 3), du (3), aux (4: kn, kt, kr, fn);
+a (2 x 3), du (3), aux (4: kn, kt, kr, fn; written only with want_aux);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -271,16 +271,17 @@ def lee_hurley_wall_project(y, R, p, h):
 
 
 @hot_inline_jit
-def lee_hurley_wall_advance(y, R, p, h, du, f, aux):
-    """One dynamics step at this geometry (width solved once): h += a @ du, cap, forces from the capped history into f, aux = CONTACT; returns the flags."""
+def lee_hurley_wall_advance(y, R, p, h, du, f, aux, want_aux):
+    """One dynamics step at this geometry (width solved once): h += a @ du, cap, forces from the capped history into f, aux = CONTACT if want_aux; returns the flags."""
     delta = R - y
     if delta <= 0.0:  # no contact: forget the history
         for k in range(2):
             h[k] = 0.0
         for k in range(3):
             f[k] = 0.0
-        for k in range(4):
-            aux[k] = 0.0
+        if want_aux:
+            for k in range(4):
+                aux[k] = 0.0
         return 0
     E = p[0]
     nu = p[1]
@@ -324,8 +325,9 @@ def lee_hurley_wall_advance(y, R, p, h, du, f, aux):
     f[0] = ftc
     f[1] = np.pi*E*delta/lam
     f[2] = R*ftc + mrc
-    aux[0] = g11
-    aux[1] = g9
-    aux[2] = g10
-    aux[3] = delta*g11
+    if want_aux:
+        aux[0] = g11
+        aux[1] = g9
+        aux[2] = g10
+        aux[3] = delta*g11
     return flags
