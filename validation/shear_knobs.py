@@ -13,7 +13,7 @@ Usage: ``python validation/shear_knobs.py [--seeds 0 1 2] [--knobs base kappa n 
 [--cache DIR]`` -> ``validation/shear_knobs.md``.  Runs already in the cache
 folder (default ``validation/.shear_knobs``) with the same parameters are
 reused.  Cost on one core: base ~1.5 min a seed, kappa ~4 min, n ~5 min, I
-(4e-6: 25x the steps) ~40 min.
+(4e-6: 25x the steps) ~20 min.
 """
 
 import argparse
