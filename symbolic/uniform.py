@@ -80,6 +80,10 @@ def overlap_lines(law):
             "delta = delta + overlap_correction_at(dx, dy, Ri, Rj, delta, r)"]
 
 
+#: The displacement arguments of ``<law>_advance`` by kind of law.
+_DU_ARGS = {"wall": ["du"], "pair": ["dui", "duj", "dxj"]}
+
+
 def advance_du_args(law):
     """The displacement arguments of ``<law>_advance``: ``du`` (wall), ``dui, duj, dxj`` (pair).
 
@@ -88,7 +92,26 @@ def advance_du_args(law):
     packing's pass) and ``dxj``, the extra x displacement of j's periodic
     image (Lees-Edwards: ``k dshift``).
     """
-    return ["du"] if law.kind == "wall" else ["dui", "duj", "dxj"]
+    return _DU_ARGS[law.kind]
+
+
+def _advance_kernel(law, doc, body):
+    """``<law>_advance`` from its body (the calling convention of the module docstring)."""
+    args = geo_args(law) + ["p", "h", *advance_du_args(law), "f", "aux", "want_aux"]
+    return kernel(f"{law.name}_advance", args, doc, body, decorator="hot_inline_jit")
+
+
+def _no_contact_lines(nh, nf):
+    """``h``, ``f`` (and ``aux`` if wanted) zeroed, return 0: an advance without contact."""
+    zero = zero_vec("h", nh) + zero_vec("f", nf) + ["if want_aux:"] \
+        + ["    " + z for z in zero_vec("aux", len(CONTACT))]
+    return ["if delta <= 0.0:  # no contact: forget the history",
+            *["    " + z for z in zero], "    return 0"]
+
+
+def _aux_lines(exprs):
+    """``aux[k] = CONTACT value k``, written only if wanted."""
+    return ["if want_aux:"] + [f"    aux[{k}] = {code(e)}" for k, e in enumerate(exprs)]
 
 
 def _du(law, b):
@@ -212,15 +235,11 @@ def family_project(law):
 
 
 def family_advance(law, force_body):
-    name, geo = law.name, geo_args(law)
     nh, nq = law.increment.shape
     nf = len(law.outputs)
     g = law.geometry
     defs = dict(g.intermediates())
-    zero = zero_vec("h", nh) + zero_vec("f", nf) + ["if want_aux:"] \
-        + ["    " + z for z in zero_vec("aux", len(CONTACT))]
-    body = overlap_lines(law) + ["if delta <= 0.0:  # no contact: forget the history",
-                                  *["    " + z for z in zero], "    return 0"]
+    body = overlap_lines(law) + _no_contact_lines(nh, nf)
     body += unpack(law)
     if law.kind == "pair":
         body += [f"nx = {code(defs[g.nx])}", f"ny = {code(defs[g.ny])}"]
@@ -257,15 +276,12 @@ def family_advance(law, force_body):
                  "    flags = 1"]
         flags = "flags"
     body += force_body
-    body += ["if want_aux:"] + [f"    aux[{k}] = {code(e)}"
-                                for k, e in enumerate(reduced[len(inc):])]
+    body += _aux_lines(reduced[len(inc):])
     body.append(f"return {flags}")
     doc = ("One dynamics step at this geometry (computed once): h += a @ du, project, "
            "forces from the projected history into f, aux = CONTACT if want_aux; returns the "
            "flags.")
-    return kernel(f"{name}_advance", geo + ["p", "h", *advance_du_args(law), "f", "aux", "want_aux"], doc,
-                  body,
-                  decorator="hot_inline_jit")
+    return _advance_kernel(law, doc, body)
 
 
 # ------------------------------------------------------------------ capped laws
@@ -326,14 +342,10 @@ def capped_project(law):
 
 
 def capped_advance(law, force_body):
-    name, geo = law.name, geo_args(law)
     nh, nq = law.increment.shape
     nf = len(law.outputs)
     ftc, mrc = (str(c) for c in law.capped)
-    zero = zero_vec("h", nh) + zero_vec("f", nf) + ["if want_aux:"] \
-        + ["    " + z for z in zero_vec("aux", len(CONTACT))]
-    body = overlap_lines(law) + ["if delta <= 0.0:  # no contact: forget the history",
-                                  *["    " + z for z in zero], "    return 0"]
+    body = overlap_lines(law) + _no_contact_lines(nh, nf)
     body += unpack(law) + normal_lines(law) + width_lines(law)
     inc = [law.increment[a, b] for a in range(nh) for b in range(nq)]
     (denom, message), = law.domain
@@ -357,15 +369,12 @@ def capped_advance(law, force_body):
              f"    h[1] = {mrc}",
              "    flags += 2"]
     body += force_body
-    body += ["if want_aux:"] + [f"    aux[{k}] = {code(e)}"
-                                for k, e in enumerate(reduced[1 + len(inc):])]
+    body += _aux_lines(reduced[1 + len(inc):])
     body.append("return flags")
     doc = ("One dynamics step at this geometry (width solved once): h += a @ du, cap, "
            "forces from the capped history into f, aux = CONTACT if want_aux; returns the "
            "flags.")
-    return kernel(f"{name}_advance", geo + ["p", "h", *advance_du_args(law), "f", "aux", "want_aux"], doc,
-                  body,
-                  decorator="hot_inline_jit")
+    return _advance_kernel(law, doc, body)
 
 
 # ------------------------------------------------------------------ dispatch
@@ -433,8 +442,7 @@ def generate_dispatch(laws):
               "        a[k, b] = 0.0", f"raise ValueError('{kind}_rate: unknown contact law id')"]),
             ("_project", "p, h", True,
              ["for k in range(h.shape[0]):", "    h[k] = 0.0", "return UNKNOWN_LAW"]),
-            ("_advance", f"p, h, {'du' if kind == 'wall' else 'dui, duj, dxj'}, f, aux, want_aux",
-             True,
+            ("_advance", f"p, h, {', '.join(_DU_ARGS[kind])}, f, aux, want_aux", True,
              ["for k in range(h.shape[0]):", "    h[k] = 0.0", "for k in range(f.shape[0]):",
               "    f[k] = 0.0", "if want_aux:", "    for k in range(aux.shape[0]):",
               "        aux[k] = 0.0", "return UNKNOWN_LAW"]),

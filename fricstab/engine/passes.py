@@ -348,8 +348,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                 a1 += fc[dof + 1]
                 if dof == 3:
                     a2 += fc[5]
-            elif j >= 0:
-                ju = np.uint64(j)
+            elif j >= 0:   # ju: set in the pair branch above
                 for b in range(dof):
                     f[ju, b] += fc[dof + b]
         flag[c] = fl
