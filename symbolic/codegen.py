@@ -30,8 +30,12 @@ For each law of :mod:`symbolic.laws` one module is written with
     geometry, zeros without contact;
   - ``<law>_project(G, p, h) -> flags``: ``h`` replaced in place by the
     admissible history (zero without contact, on the cap beyond it);
-  - ``<law>_advance(G, p, h, D, f, aux, want_aux) -> flags``: one dynamics
-    step of one contact with the geometry computed once: ``h += a @ du``
+  - ``<law>_advance(G', p, h, D, f, aux, want_aux) -> flags``: one dynamics
+    step of one contact with the geometry used once (``G' = G`` for a wall;
+    ``dx, dy, Ri, Rj, r, delta, lam`` for a pair, the centre distance, accurate
+    overlap and Hertz-cylinder width from
+    ``fricstab._numerics.pair_geometry_lanes``, which the engine runs on several
+    contacts at once): ``h += a @ du``
     (``D = du`` for a wall, ``dui, duj, dxj`` for a pair: the rows of i and j
     and the extra x of j's image, read in place),
     project, forces from the projected history into ``f``, and with

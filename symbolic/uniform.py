@@ -3,9 +3,11 @@
 One calling convention for every law (the engine's; see :mod:`symbolic.codegen`
 for the list): ``<law>_eval(G, p, h, f, jac, want_jac)``, ``<law>_rate(G, p, a)``,
 ``<law>_project(G, p, h) -> flags``,
-``<law>_advance(G, p, h, D, f, aux, want_aux) -> flags`` with ``G = dx, dy, Ri, Rj``
-(pair) or ``y, R`` (wall), ``p`` the parameters in PARAMS order, ``h`` the
-history row and ``D`` the step's displacement (:func:`advance_du_args`).
+``<law>_advance(G', p, h, D, f, aux, want_aux) -> flags`` with ``G = dx, dy, Ri, Rj``
+(pair) or ``y, R`` (wall), ``G'`` the same for a wall and ``dx, dy, Ri, Rj, r,
+delta, lam`` for a pair (:func:`advance_geo_args`), ``p`` the parameters in
+PARAMS order, ``h`` the history row and ``D`` the step's displacement
+(:func:`advance_du_args`).
 
 * ``eval`` and ``rate`` call the scalar kernels (``force``,
   ``force_jacobian``, ``increment``), so they agree with them to the bit.
@@ -14,8 +16,10 @@ history row and ``D`` the step's displacement (:func:`advance_du_args`).
   bit and reprojects to itself), Charan's vector history rescaled onto the
   circle as the force kernels do, flag 1 when ``|t| >= t* (1 - 8 eps)``
   (:data:`ON_CIRCLE`).
-* ``advance`` computes the geometry once (one centre distance, the accurate
-  overlap from it, one ``sqrt(delta)``, one contact-width solve), the
+* ``advance`` uses the geometry once (a pair's centre distance, accurate
+  overlap and contact-width solve come from the engine, which computes them
+  for several contacts at once: ``fricstab._numerics.pair_geometry_lanes``;
+  a wall's from its height; one ``sqrt(delta)``), the
   increment entries and the CONTACT values in one CSE block of geometry-only
   expressions (prefix ``g``), then ``h += a @ du`` summed left to right, the
   projection (the caps by the force kernels' own expressions) and the forces
@@ -26,16 +30,17 @@ history row and ``D`` the step's displacement (:func:`advance_du_args`).
 
 import hashlib
 
-from symbolic.laws import CONTACT, PAIR_LAWS
+from symbolic.laws import CAPPED_LAWS, CONTACT, PAIR_LAWS
 from symbolic.printing import code, geometry_block, kernel, zero_mat, zero_vec
 
 __all__ = ["DISPATCH_TEMPLATE_VERSION", "ON_CIRCLE", "UNIFORM", "advance_du_args", "capped_advance",
-           "capped_project", "capped_rate", "eval_kernel", "family_advance", "family_project",
+           "advance_geo_args", "capped_project", "capped_rate", "eval_kernel", "family_advance",
+           "family_project",
            "family_rate", "generate_dispatch", "geo_args", "normal_lines", "overlap_lines",
            "scalar_call", "uniform_doc", "unpack", "width_lines"]
 
 COMMAND = "python -m symbolic.codegen"
-DISPATCH_TEMPLATE_VERSION = "6"
+DISPATCH_TEMPLATE_VERSION = "7"
 #: Suffixes of the uniform kernels.
 UNIFORM = ("_eval", "_rate", "_project", "_advance")
 
@@ -84,6 +89,28 @@ def overlap_lines(law):
 _DU_ARGS = {"wall": ["du"], "pair": ["dui", "duj", "dxj"]}
 
 
+#: A pair's geometry as ``<law>_advance`` takes it: what the force kernels compute
+#: first (centre distance, accurate overlap, Hertz-cylinder ``lam``; the last is
+#: read only by the laws with a contact width, ``WIDTH`` in dispatch.py).
+_PAIR_GEOMETRY = ["r", "delta", "lam"]
+
+
+def advance_geo_args(law):
+    """The geometry arguments of ``<law>_advance``: ``y, R`` (wall), ``dx, dy, Ri, Rj, r, delta, lam`` (pair).
+
+    A pair's ``r``, ``delta`` (and ``lam``) must be what
+    ``fricstab._numerics.pair_geometry_lanes`` gives (the force kernels'
+    values to the bit): the engine computes them for several contacts at
+    once, which overlaps their square roots and logarithms.
+    """
+    return geo_args(law) + (_PAIR_GEOMETRY if law.kind == "pair" else [])
+
+
+def _advance_overlap_lines(law):
+    """The overlap lines of ``<law>_advance``: a wall's own; none for a pair (an argument)."""
+    return overlap_lines(law) if law.kind == "wall" else []
+
+
 def advance_du_args(law):
     """The displacement arguments of ``<law>_advance``: ``du`` (wall), ``dui, duj, dxj`` (pair).
 
@@ -97,7 +124,7 @@ def advance_du_args(law):
 
 def _advance_kernel(law, doc, body):
     """``<law>_advance`` from its body (the calling convention of the module docstring)."""
-    args = geo_args(law) + ["p", "h", *advance_du_args(law), "f", "aux", "want_aux"]
+    args = advance_geo_args(law) + ["p", "h", *advance_du_args(law), "f", "aux", "want_aux"]
     return kernel(f"{law.name}_advance", args, doc, body, decorator="hot_inline_jit")
 
 
@@ -154,14 +181,17 @@ def uniform_doc(law):
         "Uniform kernels (float64; the engine's calling convention, dispatch.py):",
         f"``{law.name}_eval({g}, p, h, f, jac, want_jac)``,",
         f"``{law.name}_rate({g}, p, a)``, ``{law.name}_project({g}, p, h) -> flags``,",
-        f"``{law.name}_advance({g}, p, h, {', '.join(advance_du_args(law))}, f, aux, want_aux) -> "
+        f"``{law.name}_advance({', '.join(advance_geo_args(law))}, p, h, "
+        f"{', '.join(advance_du_args(law))}, f, aux, want_aux) -> "
         "flags``; p = PARAMS values,",
         f"h the history row (first N_HIST = {nh} entries), f ({nf}), jac ({nf} x {nq}),",
         f"a ({nh} x {nq}), "
         + (f"du ({nq})" if law.kind == "wall" else
            f"dui, duj ({nq // 2}: the step's displacements of i and j), dxj (j's image's extra x)")
         + f", aux ({len(CONTACT)}: {', '.join(CONTACT)}; written "
-        "only with want_aux);",
+        "only with want_aux);"
+        + ("" if law.kind == "wall" else
+           " r, delta, lam: the pair's geometry (fricstab._numerics.pair_geometry_lanes);"),
         "flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.",
     ]
 
@@ -239,7 +269,7 @@ def family_advance(law, force_body):
     nf = len(law.outputs)
     g = law.geometry
     defs = dict(g.intermediates())
-    body = overlap_lines(law) + _no_contact_lines(nh, nf)
+    body = _advance_overlap_lines(law) + _no_contact_lines(nh, nf)
     body += unpack(law)
     if law.kind == "pair":
         body += [f"nx = {code(defs[g.nx])}", f"ny = {code(defs[g.ny])}"]
@@ -286,16 +316,17 @@ def family_advance(law, force_body):
 
 # ------------------------------------------------------------------ capped laws
 
-def width_lines(law):
-    """Contact width: lam (the one solve) and the half-width hw."""
+def width_lines(law, solve=True):
+    """Contact width: lam (the one solve; an argument if not ``solve``) and the half-width hw."""
     g = law.geometry
     r1, r2 = ("Ri", "Rj") if law.kind == "pair" else ("R", "Rw")
-    return [
-        f"# Implicit Hertz-cylinder width: lam = ln(4{r1}/a) + ln(4{r2}/a) - 1 (Eq. A2),",
-        f"# raises ValueError beyond the turning point delta = 4 ({r1} + {r2})/e^2.",
-        f"lam = cylinder_lambda(delta, {r1}, {r2})",
-        f"hw = {code(dict(g.intermediates())[g.hw])}",
-    ]
+    lines = [f"# Implicit Hertz-cylinder width: lam = ln(4{r1}/a) + ln(4{r2}/a) - 1 (Eq. A2),"]
+    if solve:
+        lines += [f"# raises ValueError beyond the turning point delta = 4 ({r1} + {r2})/e^2.",
+                  f"lam = cylinder_lambda(delta, {r1}, {r2})"]
+    else:
+        lines += ["# solved by the engine (fricstab._numerics.pair_geometry_lanes)."]
+    return lines + [f"hw = {code(dict(g.intermediates())[g.hw])}"]
 
 
 def normal_lines(law):
@@ -345,8 +376,8 @@ def capped_advance(law, force_body):
     nh, nq = law.increment.shape
     nf = len(law.outputs)
     ftc, mrc = (str(c) for c in law.capped)
-    body = overlap_lines(law) + _no_contact_lines(nh, nf)
-    body += unpack(law) + normal_lines(law) + width_lines(law)
+    body = _advance_overlap_lines(law) + _no_contact_lines(nh, nf)
+    body += unpack(law) + normal_lines(law) + width_lines(law, solve=law.kind == "wall")
     inc = [law.increment[a, b] for a in range(nh) for b in range(nq)]
     (denom, message), = law.domain
     lines, reduced = geometry_block([denom] + inc + list(law.contact))
@@ -371,7 +402,8 @@ def capped_advance(law, force_body):
     body += force_body
     body += _aux_lines(reduced[1 + len(inc):])
     body.append("return flags")
-    doc = ("One dynamics step at this geometry (width solved once): h += a @ du, cap, "
+    doc = ("One dynamics step at this geometry (width solved once"
+           + (", by the engine" if law.kind == "pair" else "") + "): h += a @ du, cap, "
            "forces from the capped history into f, aux = CONTACT if want_aux; returns the "
            "flags.")
     return _advance_kernel(law, doc, body)
@@ -415,7 +447,7 @@ def generate_dispatch(laws):
         "",
         "__all__ = [" + ", ".join(repr(f"{k}{s}") for k in ("pair", "wall") for s in UNIFORM)
         + ", 'PAIR_LAWS', 'WALL_LAWS', 'N_DOF', 'N_HIST', 'N_HIST_WALL', 'N_PARAMS',"
-        " 'N_PARAMS_WALL', 'UNKNOWN_LAW']",
+        " 'N_PARAMS_WALL', 'UNKNOWN_LAW', 'WIDTH']",
         "",
         "#: Pair laws; the id of a law is its index.",
         f"PAIR_LAWS = {tup(pairs)}",
@@ -427,6 +459,9 @@ def generate_dispatch(laws):
         f"N_HIST_WALL = {tup(len(laws[n].history) for n in walls)}",
         f"N_PARAMS = {tup(len(laws[n].params) for n in pairs)}",
         f"N_PARAMS_WALL = {tup(len(laws[n].params) for n in walls)}",
+        "#: Whether a pair law's <law>_advance reads lam, the Hertz-cylinder width",
+        "#: (fricstab._numerics.cylinder_lambda); the engine solves it only for these.",
+        f"WIDTH = {tup(n in CAPPED_LAWS for n in pairs)}",
         "#: What project and advance return for an unknown law id.",
         "UNKNOWN_LAW = -1",
     ]
@@ -442,7 +477,8 @@ def generate_dispatch(laws):
               "        a[k, b] = 0.0", f"raise ValueError('{kind}_rate: unknown contact law id')"]),
             ("_project", "p, h", True,
              ["for k in range(h.shape[0]):", "    h[k] = 0.0", "return UNKNOWN_LAW"]),
-            ("_advance", f"p, h, {', '.join(_DU_ARGS[kind])}, f, aux, want_aux", True,
+            ("_advance", ("r, delta, lam, " if kind == "pair" else "")
+             + f"p, h, {', '.join(_DU_ARGS[kind])}, f, aux, want_aux", True,
              ["for k in range(h.shape[0]):", "    h[k] = 0.0", "for k in range(f.shape[0]):",
               "    f[k] = 0.0", "if want_aux:", "    for k in range(aux.shape[0]):",
               "        aux[k] = 0.0", "return UNKNOWN_LAW"]),

@@ -93,22 +93,27 @@ def _call_args(body, fn):
 
 
 def test_the_hot_path_computes_its_geometry_once():
-    """<law>_advance: no square root taken twice (r, sqrt(delta), |t|, the half-width),
-    one contact-width solve, the accurate overlap from the r it has (overlap_correction_at,
-    not overlap_correction's own sqrt), Lai's logarithms from lam: one logarithm of the
-    radii's ratio besides the constant ln 2 (which LLVM folds), no exponential."""
+    """<law>_advance: no square root taken twice (sqrt(delta), |t|, the half-width), a
+    pair's centre distance, overlap and contact width taken as arguments (the engine
+    computes them in lanes: fricstab._numerics.pair_geometry_lanes), one contact-width
+    solve at a wall, Lai's logarithms from lam: one logarithm of the radii's ratio besides
+    the constant ln 2 (which LLVM folds), no exponential."""
     files = codegen.render_all()
     for name in laws.ALL_LAWS:
         src = files[codegen.OUT_DIR / f"{name}.py"]
-        body = src.split(f"def {name}_advance(")[1].split("\n@kernel_jit")[0]
+        head, body = src.split(f"def {name}_advance(")[1].split("\n", 1)
+        body = body.split("\n@kernel_jit")[0]
+        pair = not name.endswith("_wall")
+        assert head.startswith("dx, dy, Ri, Rj, r, delta, lam, " if pair else "y, R, ")
         roots = _call_args(body, "np.sqrt")
         assert len(roots) == len(set(roots)), roots
-        assert body.count("cylinder_lambda(") == (1 if name.startswith("lee_hurley") else 0)
-        assert "overlap_correction(" not in body
+        wall_width = name == "lee_hurley_wall"
+        assert body.count("cylinder_lambda(") == (1 if wall_width else 0)
+        assert "overlap_correction(" not in body and "overlap_correction_at(" not in body
         if name.startswith("lee_hurley"):
             r1, r2 = ("Ri", "Rj") if name == "lee_hurley" else ("R", "Rw")
-            # the pair's r and the half-width; at the wall only the half-width
-            assert len(roots) == (2 if name == "lee_hurley" else 1), roots
+            # the half-width only (a pair's r is an argument)
+            assert len(roots) == 1, roots
             logs = _call_args(body, "np.log")
             assert sorted(logs) == sorted(["2.0", f"{r1}*g0"]), logs
             assert f"g0 = (1.0 / ({r2}))" in body and "np.exp(" not in body

@@ -104,8 +104,8 @@ def test_laws_lists_the_arguments_of_every_kernel(capsys):
         assert f"{name}_force({', '.join(law.inputs)}, f)" in out
         for kernel in (f"{name}_eval({geo}, p, h, f, jac, want_jac)",
                        f"{name}_rate({geo}, p, a)", f"{name}_project({geo}, p, h)",
-                       f"{name}_advance({geo}, p, h, {'du' if law.kind == 'wall' else 'dui, duj, dxj'}, f, aux, "
-                       "want_aux)"):
+                       f"{name}_advance({', '.join(law.advance_geometry_args)}, p, h, "
+                       f"{'du' if law.kind == 'wall' else 'dui, duj, dxj'}, f, aux, want_aux)"):
             assert kernel in out, f"`fricstab laws` does not list {kernel}"
         for p, unit in zip(law.params, law.param_units):
             assert f"{p} [{unit}]" in out

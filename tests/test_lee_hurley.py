@@ -28,7 +28,8 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fricstab._numerics import contact_halfwidth, cylinder_lambda, turning_overlap
+from fricstab._numerics import (LANE_COLUMNS, contact_halfwidth, cylinder_lambda, overlap_correction,
+                                pair_geometry, pair_geometry_lanes, turning_overlap)
 from fricstab.generated import lee_hurley as gen
 from fricstab.generated import lee_hurley_wall as gen_wall
 from fricstab.laws import ParameterError, evaluate
@@ -117,6 +118,51 @@ def test_width_start_leaves_one_newton_step():
     for delta in (1e-25, 1e-100, 1e-300):
         ref = -mpmath.lambertw(-mpmath.e * mpmath.mpf(delta) / (4 * (ri + rj)), -1).real
         assert abs(cylinder_lambda(delta, ri, rj) - ref) / ref <= 4 * EPS
+
+
+_LANE = st.tuples(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0), st.floats(0.2, 1.5),
+                  st.floats(0.2, 1.5), st.floats(-14.0, -0.2))
+
+
+@given(lanes=st.lists(_LANE, min_size=1, max_size=16), width=st.booleans())
+def test_geometry_in_lanes_is_one_contacts_to_the_bit(lanes, width):
+    """pair_geometry_lanes (the engine's, several contacts at once) against the scalar
+    functions the force kernels call: r, the accurate overlap and lam equal to the bit,
+    in lanes that touch (overlap 10^-14 .. 0.6 of the turning point) and lanes apart."""
+    g = np.full((len(lanes), len(LANE_COLUMNS)), np.nan)
+    for k, (x, y, ri, rj, log_rel) in enumerate(lanes):
+        if x > 0.0:   # touching: an overlap of a given fraction of the turning point
+            r = ri + rj - 0.6 * 10.0 ** log_rel * turning_overlap(ri, rj)
+            x, y = r * math.cos(y), r * math.sin(y)
+        else:         # at or beyond contact: the centres at least Ri + Rj apart in x
+            x -= ri + rj
+        g[k, :4] = x, y, ri, rj
+    pair_geometry_lanes(g, len(lanes), width)
+    for k, (x, y, ri, rj) in enumerate(g[:, :4]):
+        r = np.sqrt(x * x + y * y)
+        naive = ri + rj - r
+        delta = naive + overlap_correction(x, y, ri, rj, naive)
+        assert g[k, 4] == r and g[k, 5] == delta
+        if width and delta > 0.0:
+            assert g[k, 6] == cylinder_lambda(delta, ri, rj)
+            assert pair_geometry(x, y, ri, rj, True) == (r, delta, g[k, 6])
+        else:
+            assert np.isnan(g[k, 6])
+
+
+def test_geometry_in_lanes_raises_as_the_width_does():
+    """A lane beyond the turning point, or with a NaN overlap, raises cylinder_lambda's error."""
+    ri, rj = 0.5, 0.7
+    g = np.zeros((2, len(LANE_COLUMNS)))
+    g[:, 2:4] = ri, rj
+    g[0, 0] = ri + rj - 0.5 * turning_overlap(ri, rj)
+    g[1, 0] = ri + rj - turning_overlap(ri, rj) * (1 + 1e-9)
+    with pytest.raises(ValueError, match="turning point"):
+        pair_geometry_lanes(g, 2, True)
+    pair_geometry_lanes(g, 2, False)   # no width: nothing to refuse
+    g[1, 0] = np.nan
+    with pytest.raises(ValueError, match="must be > 0"):
+        pair_geometry_lanes(g, 2, True)
 
 
 def test_beyond_the_turning_point_raises():
@@ -428,7 +474,7 @@ def _dashpot(vi, vj, mi, mj, ii, ij, damp=(0.1, 0.2, 0.3), kn=2.0, kt=1.0, kr=0.
     """The engine's dashpot of a contact along x (n = (1, 0), t = (0, 1)), radii 1."""
     from fricstab.engine.passes import _damping
     out = np.zeros(4)
-    _damping(1.0, 0.0, 1.0, 1.0, 1.0, 1.0, np.array(vi, float), np.array(vj, float), kn, kt,
+    _damping(1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, np.array(vi, float), np.array(vj, float), kn, kt,
              kr, mi, mj, ii, ij, np.array(damp), False, out)
     return out
 

@@ -32,6 +32,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from fricstab._numerics import pair_geometry
 from fricstab.generated import dispatch
 from fricstab.laws import (ALL_LAW_NAMES, CAPPED_LAW_NAMES, LAW_NAMES, PAIR_LAW_NAMES,
                            WALL_LAW_NAMES, get_law, law_id)
@@ -71,6 +72,11 @@ def _increment_args(law, args):
 
 def _sizes(law):
     return len(law.outputs), len(law.coords), law.n_hist
+
+
+def _ageo(law, geo):
+    """The geometry arguments of ``law.advance``: a pair's with ``r, delta, lam`` as the engine has them."""
+    return tuple(geo) + (pair_geometry(*geo, law.width) if law.kind == "pair" else ())
 
 
 def _no_contact_geometry(law):
@@ -207,7 +213,7 @@ def test_advance_is_rate_project_eval_composed(name, data):
     nf, nq, nh = _sizes(law)
     h_c, flags_c, f_c = _composed(law, geo, p, h0, du)
     h, f, aux = h0.copy(), np.full(nf, np.nan), np.full(4, np.nan)
-    flags = law.advance(*geo, p, h, *_disp(law, du), f, aux, True)
+    flags = law.advance(*_ageo(law, geo), p, h, *_disp(law, du), f, aux, True)
     assert flags == flags_c
     assert np.array_equal(h[:nh], h_c[:nh]) and np.isnan(h[nh:]).all()
     if name == "charan":
@@ -218,7 +224,7 @@ def test_advance_is_rate_project_eval_composed(name, data):
     assert np.allclose(aux, ref, rtol=8 * EPS, atol=0)
     # without want_aux: the same step to the bit, aux untouched
     h2, f2, aux2 = h0.copy(), np.full(nf, np.nan), np.full(4, np.nan)
-    assert law.advance(*geo, p, h2, *_disp(law, du), f2, aux2, False) == flags
+    assert law.advance(*_ageo(law, geo), p, h2, *_disp(law, du), f2, aux2, False) == flags
     assert np.array_equal(h2, h, equal_nan=True) and np.array_equal(f2, f)
     assert np.isnan(aux2).all()
     if law.kind == "pair":   # dxj is added to j's x displacement: duj[0] + dxj, to the bit
@@ -227,8 +233,8 @@ def test_advance_is_rate_project_eval_composed(name, data):
         shifted = duj.copy()
         shifted[0] = duj[0] + dxj
         h3, h4, f3, f4 = h0.copy(), h0.copy(), np.empty(nf), np.empty(nf)
-        assert law.advance(*geo, p, h3, dui, duj, dxj, f3, aux2, False) == \
-            law.advance(*geo, p, h4, dui, shifted, 0.0, f4, aux2, False)
+        assert law.advance(*_ageo(law, geo), p, h3, dui, duj, dxj, f3, aux2, False) == \
+            law.advance(*_ageo(law, geo), p, h4, dui, shifted, 0.0, f4, aux2, False)
         assert np.array_equal(h3, h4, equal_nan=True) and np.array_equal(f3, f4)
 
 
@@ -243,11 +249,11 @@ def test_without_contact_advance_and_project_forget_everything(name):
         h = np.full(nh + PAD, np.nan)
         h[:nh] = 1e-3
         f, aux = np.full(nf, np.nan), np.full(4, np.nan)
-        assert law.advance(*geo, p, h, *_disp(law, np.full(nq, 1e-3)), f, aux, True) == 0
+        assert law.advance(*_ageo(law, geo), p, h, *_disp(law, np.full(nq, 1e-3)), f, aux, True) == 0
         assert not h[:nh].any() and np.isnan(h[nh:]).all()
         assert not f.any() and not aux.any() and not np.isnan(f).any() and not np.isnan(aux).any()
         h[:nh], f[:], aux[:] = 1e-3, np.nan, np.nan
-        assert law.advance(*geo, p, h, *_disp(law, np.full(nq, 1e-3)), f, aux, False) == 0
+        assert law.advance(*_ageo(law, geo), p, h, *_disp(law, np.full(nq, 1e-3)), f, aux, False) == 0
         assert not h[:nh].any() and not f.any() and np.isnan(aux).all()
         h[:nh] = 1e-3
         assert law.project(*geo, p, h) == 0
@@ -268,7 +274,7 @@ def test_advance_contact_quantities_of_a_hand_computed_hertz_contact():
         law = get_law(name)
         p = np.array([{"kn": 3.0, "kt": 2.0, "mu": 1.0}[k] for k in law.params])
         aux = np.empty(4)
-        law.advance(0.96, 0.28, 0.52, 0.52, p, np.zeros(law.n_hist), *_disp(law, np.zeros(2 * law.n_dof)),
+        law.advance(*_ageo(law, (0.96, 0.28, 0.52, 0.52)), p, np.zeros(law.n_hist), *_disp(law, np.zeros(2 * law.n_dof)),
                     np.empty(len(law.outputs)), aux, True)
         assert np.allclose(aux, values, rtol=tol, atol=0), name
         wall = get_law(law.wall)
@@ -385,7 +391,7 @@ def test_mur_zero_means_no_rolling_resistance(name, data):
     geo, p, h = _inputs(law, args)
     nf, nq, _ = _sizes(law)
     f, aux = np.empty(nf), np.empty(4)
-    flags = law.advance(*geo, p, h, *_disp(law, np.zeros(nq)), f, aux, True)
+    flags = law.advance(*_ageo(law, geo), p, h, *_disp(law, np.zeros(nq)), f, aux, True)
     assert flags & 2 and h[1] == 0.0
     r1 = geo[2] if law.kind == "pair" else geo[1]
     assert f[2] == r1 * h[0]
@@ -434,8 +440,8 @@ def test_dispatch_by_id_is_the_per_law_kernel(kind, i):
         assert law.project(*geo, p, h0) == fns["project"](i, *geo, p, h1)
         assert np.array_equal(h0, h1, equal_nan=True)
         h0, h1, f0, f1, x0, x1 = h.copy(), h.copy(), np.zeros(nf), np.zeros(nf), np.zeros(4), np.zeros(4)
-        assert law.advance(*geo, p, h0, *_disp(law, du), f0, x0, True) == \
-            fns["advance"](i, *geo, p, h1, *_disp(law, du), f1, x1, True)
+        assert law.advance(*_ageo(law, geo), p, h0, *_disp(law, du), f0, x0, True) == \
+            fns["advance"](i, *_ageo(law, geo), p, h1, *_disp(law, du), f1, x1, True)
         assert np.array_equal(h0, h1, equal_nan=True)
         assert np.array_equal(f0, f1) and np.array_equal(x0, x1)
 
@@ -450,10 +456,11 @@ def test_dispatch_refuses_an_unknown_id_loudly(kind, bad):
     assert not h.any()
     h[:] = 1.0
     du = (np.ones(3),) if kind == "wall" else (np.ones(3), np.ones(3), 0.0)
-    assert getattr(dispatch, f"{kind}_advance")(bad, *geo, p, h, *du, f, aux, True) == -1
+    ageo = geo if kind == "wall" else geo + pair_geometry(*geo, False)
+    assert getattr(dispatch, f"{kind}_advance")(bad, *ageo, p, h, *du, f, aux, True) == -1
     assert not h.any() and not f.any() and not aux.any()
     h[:], f[:], aux[:] = 1.0, 1.0, 1.0
-    assert getattr(dispatch, f"{kind}_advance")(bad, *geo, p, h, *du, f, aux, False) == -1
+    assert getattr(dispatch, f"{kind}_advance")(bad, *ageo, p, h, *du, f, aux, False) == -1
     assert not h.any() and not f.any() and (aux == 1.0).all()
     f[:], jac[:] = 1.0, 1.0
     with pytest.raises(ValueError, match="unknown contact law id"):
@@ -490,7 +497,8 @@ def test_metadata_is_consistent_with_the_kernels(name):
     # the uniform kernels' arguments, and the p and h slots they read
     geo = list(law.geometry_args)
     signatures = {"eval": geo + ["p", "h", "f", "jac", "want_jac"], "rate": geo + ["p", "a"],
-                  "project": geo + ["p", "h"], "advance": geo + ["p", "h", *(["du"] if law.kind == "wall" else ["dui", "duj", "dxj"]),
+                  "project": geo + ["p", "h"],
+                  "advance": list(law.advance_geometry_args) + ["p", "h", *(["du"] if law.kind == "wall" else ["dui", "duj", "dxj"]),
                               "f", "aux", "want_aux"]}
     p_read, h_read = set(), set()
     for kernel, expect in signatures.items():

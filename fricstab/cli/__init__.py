@@ -229,8 +229,10 @@ def _cmd_laws():
         print(f"    {name}_rate({geo}, p, a)   increment rule dh = a dq")
         print(f"    {name}_project({geo}, p, h) -> flags   history onto its admissible set")
         disp = "du" if law.kind == "wall" else "dui, duj, dxj"
-        print(f"    {name}_advance({geo}, p, h, {disp}, f, aux, want_aux) -> flags   one dynamics"
-              f" step; aux = ({', '.join(law.contact)}) if want_aux")
+        print(f"    {name}_advance({', '.join(law.advance_geometry_args)}, p, h, {disp}, f, aux, "
+              f"want_aux) -> flags   one dynamics step; aux = ({', '.join(law.contact)}) if "
+              "want_aux" + ("; r, delta, lam = fricstab._numerics.pair_geometry(dx, dy, Ri, Rj, "
+                            f"{law.width})" if law.kind == "pair" else ""))
         print(f"    p = ({', '.join(law.params)}), h = ({', '.join(law.history) or '-'})")
         print("  parameters:")
         for p, u, d in zip(law.params, law.param_units, law.param_docs):

@@ -126,7 +126,7 @@ def workspace(contacts, n, n_chunks, family):
     pstart, pidx = passes.layout(contacts.i, contacts.j, n)
     return (np.zeros((k, 6)), np.zeros(k, np.int8), pstart, pidx,
             passes.driven_contacts(contacts.i, contacts.j, family),
-            np.zeros((n_chunks, 8, 6)), np.full(n_chunks, -1, np.int64))
+            np.zeros((n_chunks, 8 + passes.LANES, 9)), np.full(n_chunks, -1, np.int64))
 
 
 @hot_jit

@@ -6,7 +6,7 @@ contacts`) and calls the law through the generated dispatch
 compiled loop serves every law.  Everything here is compiled without numba's
 reference counting (:data:`fricstab._numba.hot_jit`, a factor ~3 on the pass):
 no function allocates; scratch space comes from the caller as ``work``
-(8, 6) and ``jwork`` (6, 6) float64 arrays.
+(8 + :data:`LANES`, 9) and ``jwork`` (6, 6) float64 arrays.
 
 Generalized coordinates ``q`` (N, 3): ``x, y`` and the law's rotational
 coordinate (``theta``, or Ishima's ``l = R theta``; unused by a frictionless
@@ -38,11 +38,12 @@ Passes
 import numpy as np
 
 from fricstab._numba import hot_inline_jit, hot_jit
+from fricstab._numerics import pair_geometry_lanes
 from fricstab.engine.contacts import separation
-from fricstab.generated.dispatch import (pair_advance, pair_eval, pair_project, pair_rate,
+from fricstab.generated.dispatch import (WIDTH, pair_advance, pair_eval, pair_project, pair_rate,
                                          wall_advance, wall_eval, wall_project, wall_rate)
 
-__all__ = ["advance_range", "contact_pass", "driven_contacts", "driven_force", "eval_pass",
+__all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_force", "eval_pass",
            "gather_range", "increment_pass", "layout", "project_pass"]
 
 
@@ -52,6 +53,14 @@ __all__ = ["advance_range", "contact_pass", "driven_contacts", "driven_force", "
 #: holds many such pairs).  Closer pairs go to the kernel, whose accurate overlap
 #: decides.
 APART = 1e-12
+
+#: Contacts per block of :func:`advance_range`, whose pairs' geometry is
+#: computed in lanes (:func:`fricstab._numerics.pair_geometry_lanes`; measured in
+#: docs/concepts/performance.md).  The scratch ``work`` has ``8 + LANES`` rows.
+LANES = 16
+#: A block position's tag (``work[8 + b, 8]``) when it is not a lane.
+APART_TAG = -1.0
+WALL_TAG = -2.0
 
 
 @hot_inline_jit
@@ -163,8 +172,8 @@ def project_pass(law, p, pw, walls, q, radius, lx, ly, shift, ci, cj, cm, ck, hi
 
 
 @hot_jit
-def _damping(dx, dy, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp, rolling_slides,
-             out):
+def _damping(dx, dy, r, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp,
+             rolling_slides, out):
     """Dashpot forces on i (x, y) and torques on i and j (Lee & Hurley A4, A12, A19-A22).
 
     ``gamma_n = 2 alpha_n sqrt(kn m*)``, ``gamma_t = 2 alpha_t sqrt(kt m*)``,
@@ -172,8 +181,8 @@ def _damping(dx, dy, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp, r
     ``1/I_r = 1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2)``; ``kn, kt, kr`` the
     law's secant stiffnesses.  ``vi, vj`` are generalized velocities; the
     physical angular velocity is ``v[2] / s``.  A wall is ``mj = ij = inf``.
+    ``r = np.sqrt(dx * dx + dy * dy)``, as the caller has it.
     """
-    r = np.sqrt(dx * dx + dy * dy)
     nx = dx / r
     ny = dy / r
     tx = -ny
@@ -251,6 +260,12 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                   ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
     """The body of :func:`advance_range`, inlined into it once per law branch.
 
+    The contacts go in blocks of :data:`LANES`: first the geometry of the
+    block's pairs that are not apart (separation, centre distance, accurate
+    overlap and, for a law with a contact width, its solve), lane by lane
+    (:func:`fricstab._numerics.pair_geometry_lanes`: the values are one
+    contact's to the bit, the processor overlaps the lanes' square roots and
+    logarithms); then each contact of the block in order, as before.
     Particle indices are read as unsigned integers where they index arrays:
     numba then omits the wraparound of negative indices (a wall contact's
     ``j < 0`` is decoded before).  The kernels write ``aux`` only when a
@@ -264,98 +279,132 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     vj = work[4, :3]
     zero3 = work[5, :3]
     zero3[:] = 0.0
+    # rows 8 ..: the lanes (columns LANE_COLUMNS) and, in column 8 of row 8 + b,
+    # what block position b is: its lane, APART_TAG or WALL_TAG
+    lanes = work[8:8 + LANES, :8]
+    tags = work[8:8 + LANES, 8]
+    width = WIDTH[law]
     damped = damp[0] > 0.0 or damp[1] > 0.0 or damp[2] > 0.0
     want_aux = damped or want_out   # the kernels' aux: the dashpots' stiffnesses, cout[:, 2]
     # scatter: the force on the current i is summed in registers (contacts are
     # sorted by i) and stored when i changes; the same additions in the same order
     cur = -1
     a0 = a1 = a2 = 0.0
-    for c in range(lo, hi):
-        i = ci[c]
-        j = cj[c]
-        iu = np.uint64(i)
-        fc = fcon[c, :nd]
-        if scatter and i != cur:
-            if cur >= 0:
-                f[cur, 0] = a0
-                f[cur, 1] = a1
-                f[cur, 2] = a2
-            cur = i
-            a0 = f[iu, 0]
-            a1 = f[iu, 1]
-            a2 = f[iu, 2]
-        live[c] = 1
-        if j >= 0:
+    for blo in range(lo, hi, LANES):
+        bhi = min(blo + LANES, hi)
+        n = 0
+        for c in range(blo, bhi):
+            j = cj[c]
+            if j < 0:
+                tags[c - blo] = WALL_TAG
+                continue
+            iu = np.uint64(ci[c])
             ju = np.uint64(j)
             dx, dy = separation(q, iu, ju, cm[c], ck[c], lx, ly, shift)
             ri = radius[iu]
             rj = radius[ju]
             if _apart(dx, dy, ri, rj):
-                for b in range(hist.shape[1]):
-                    hist[c, b] = 0.0  # a contact that opened forgets its history
-                flag[c] = 0
-                live[c] = 0
-                if want_out:
-                    cout[c, 0] = 0.0
-                    cout[c, 1] = 0.0
-                    cout[c, 2] = 0.0
+                tags[c - blo] = APART_TAG
                 continue
-            fl = pair_advance(law, dx, dy, ri, rj, p, hist[c], dq[iu], dq[ju], ck[c] * dshift,
-                              fc, aux, want_aux)
-            if damped and aux[3] > 0.0:
-                for b in range(3):
-                    vj[b] = v[j, b]
-                vj[0] += ck[c] * shift_rate
-                _damping(dx, dy, radius[i], radius[j], rscale[i], rscale[j], v[i], vj, aux[0],
-                         aux[1], aux[2], mdamp[i], mdamp[j], idamp[i], idamp[j], damp,
-                         (fl & 2) != 0, dmp)
-                fc[0] += dmp[0]
-                fc[1] += dmp[1]
-                fc[dof] -= dmp[0]
-                fc[dof + 1] -= dmp[1]
-                if dof == 3:
-                    fc[2] += dmp[2] / rscale[i]
-                    fc[5] += dmp[3] / rscale[j]
-        else:
-            w = -1 - j
-            d = walls[w, 1]
-            y = (q[i, 1] - walls[w, 0]) * d
-            for b in range(dof):
-                du[b] = dq[i, b] * (d if b < 2 else 1.0)
-            fl = wall_advance(law, y, radius[i], pw, hist[c], du, fc, aux, want_aux)
-            if damped and aux[3] > 0.0:
-                vj[0] = d * v[i, 0]
-                vj[1] = d * v[i, 1]
-                vj[2] = v[i, 2]
-                # the wall as a still partner below, in the wall's frame (infinite
-                # mass and inertia; its radius only enters multiplied by them)
-                _damping(0.0, radius[i] + abs(y), radius[i], radius[i], rscale[i],
-                         1.0, vj, zero3, aux[0], aux[1], aux[2], mdamp[i], np.inf, idamp[i],
-                         np.inf, damp, (fl & 2) != 0, dmp)
-                fc[0] += dmp[0]
-                fc[1] += dmp[1]
-                if dof == 3:
-                    fc[2] += dmp[2] / rscale[i]
-            fc[0] = fc[0] * d
-            fc[1] = fc[1] * d
-        if scatter:
-            a0 += fc[0]
-            a1 += fc[1]
-            if dof == 3:
-                a2 += fc[2]
-            if j == i:   # i's own periodic image
-                a0 += fc[dof]
-                a1 += fc[dof + 1]
-                if dof == 3:
-                    a2 += fc[5]
-            elif j >= 0:   # ju: set in the pair branch above
+            tags[c - blo] = n
+            lanes[n, 0] = dx
+            lanes[n, 1] = dy
+            lanes[n, 2] = ri
+            lanes[n, 3] = rj
+            n += 1
+        pair_geometry_lanes(lanes, n, width)
+        for c in range(blo, bhi):
+            i = ci[c]
+            j = cj[c]
+            iu = np.uint64(i)
+            fc = fcon[c, :nd]
+            if scatter and i != cur:
+                if cur >= 0:
+                    f[cur, 0] = a0
+                    f[cur, 1] = a1
+                    f[cur, 2] = a2
+                cur = i
+                a0 = f[iu, 0]
+                a1 = f[iu, 1]
+                a2 = f[iu, 2]
+            live[c] = 1
+            tag = tags[c - blo]
+            if j >= 0:
+                ju = np.uint64(j)
+                if tag == APART_TAG:
+                    for b in range(hist.shape[1]):
+                        hist[c, b] = 0.0  # a contact that opened forgets its history
+                    flag[c] = 0
+                    live[c] = 0
+                    if want_out:
+                        cout[c, 0] = 0.0
+                        cout[c, 1] = 0.0
+                        cout[c, 2] = 0.0
+                    continue
+                k = int(tag)
+                dx = lanes[k, 0]
+                dy = lanes[k, 1]
+                ri = lanes[k, 2]
+                rj = lanes[k, 3]
+                r = lanes[k, 4]
+                fl = pair_advance(law, dx, dy, ri, rj, r, lanes[k, 5], lanes[k, 6], p, hist[c],
+                                  dq[iu], dq[ju], ck[c] * dshift, fc, aux, want_aux)
+                if damped and aux[3] > 0.0:
+                    for b in range(3):
+                        vj[b] = v[ju, b]
+                    vj[0] += ck[c] * shift_rate
+                    _damping(dx, dy, r, ri, rj, rscale[iu], rscale[ju], v[iu], vj, aux[0],
+                             aux[1], aux[2], mdamp[iu], mdamp[ju], idamp[iu], idamp[ju], damp,
+                             (fl & 2) != 0, dmp)
+                    fc[0] += dmp[0]
+                    fc[1] += dmp[1]
+                    fc[dof] -= dmp[0]
+                    fc[dof + 1] -= dmp[1]
+                    if dof == 3:
+                        fc[2] += dmp[2] / rscale[iu]
+                        fc[5] += dmp[3] / rscale[ju]
+            else:
+                w = -1 - j
+                d = walls[w, 1]
+                y = (q[i, 1] - walls[w, 0]) * d
                 for b in range(dof):
-                    f[ju, b] += fc[dof + b]
-        flag[c] = fl
-        if want_out:
-            cout[c, 0] = fc[0]
-            cout[c, 1] = fc[1]
-            cout[c, 2] = aux[3]
+                    du[b] = dq[i, b] * (d if b < 2 else 1.0)
+                fl = wall_advance(law, y, radius[i], pw, hist[c], du, fc, aux, want_aux)
+                if damped and aux[3] > 0.0:
+                    vj[0] = d * v[i, 0]
+                    vj[1] = d * v[i, 1]
+                    vj[2] = v[i, 2]
+                    # the wall as a still partner below, in the wall's frame (infinite
+                    # mass and inertia; its radius only enters multiplied by them)
+                    rw = radius[i] + abs(y)
+                    _damping(0.0, rw, np.sqrt(rw * rw), radius[i], radius[i], rscale[i],
+                             1.0, vj, zero3, aux[0], aux[1], aux[2], mdamp[i], np.inf, idamp[i],
+                             np.inf, damp, (fl & 2) != 0, dmp)
+                    fc[0] += dmp[0]
+                    fc[1] += dmp[1]
+                    if dof == 3:
+                        fc[2] += dmp[2] / rscale[i]
+                fc[0] = fc[0] * d
+                fc[1] = fc[1] * d
+            if scatter:
+                a0 += fc[0]
+                a1 += fc[1]
+                if dof == 3:
+                    a2 += fc[2]
+                if j == i:   # i's own periodic image
+                    a0 += fc[dof]
+                    a1 += fc[dof + 1]
+                    if dof == 3:
+                        a2 += fc[5]
+                elif j >= 0:
+                    ju = np.uint64(j)
+                    for b in range(dof):
+                        f[ju, b] += fc[dof + b]
+            flag[c] = fl
+            if want_out:
+                cout[c, 0] = fc[0]
+                cout[c, 1] = fc[1]
+                cout[c, 2] = aux[3]
     if cur >= 0:
         f[cur, 0] = a0
         f[cur, 1] = a1

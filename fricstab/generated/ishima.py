@@ -11,9 +11,9 @@ with the tangential history advanced by the increment rule.
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``ishima_eval(dx, dy, Ri, Rj, p, h, f, jac, want_jac)``,
 ``ishima_rate(dx, dy, Ri, Rj, p, a)``, ``ishima_project(dx, dy, Ri, Rj, p, h) -> flags``,
-``ishima_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux) -> flags``; p = PARAMS values,
+``ishima_advance(dx, dy, Ri, Rj, r, delta, lam, p, h, dui, duj, dxj, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 2 entries), f (6), jac (6 x 6),
-a (2 x 6), dui, duj (3: the step's displacements of i and j), dxj (j's image's extra x), aux (4: kn, kt, kr, fn; written only with want_aux);
+a (2 x 6), dui, duj (3: the step's displacements of i and j), dxj (j's image's extra x), aux (4: kn, kt, kr, fn; written only with want_aux); r, delta, lam: the pair's geometry (fricstab._numerics.pair_geometry_lanes);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -252,12 +252,8 @@ def ishima_project(dx, dy, Ri, Rj, p, h):
 
 
 @hot_inline_jit
-def ishima_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux):
+def ishima_advance(dx, dy, Ri, Rj, r, delta, lam, p, h, dui, duj, dxj, f, aux, want_aux):
     """One dynamics step at this geometry (computed once): h += a @ du, project, forces from the projected history into f, aux = CONTACT if want_aux; returns the flags."""
-    r = np.sqrt(dx * dx + dy * dy)
-    delta = Ri + Rj - r
-    # the accurate overlap of the force kernels, reusing r (fricstab/_numerics.py)
-    delta = delta + overlap_correction_at(dx, dy, Ri, Rj, delta, r)
     if delta <= 0.0:  # no contact: forget the history
         for k in range(2):
             h[k] = 0.0

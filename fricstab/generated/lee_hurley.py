@@ -17,9 +17,9 @@ kn, kt, kr, fn, ftc, mrc, sliding flag
 Uniform kernels (float64; the engine's calling convention, dispatch.py):
 ``lee_hurley_eval(dx, dy, Ri, Rj, p, h, f, jac, want_jac)``,
 ``lee_hurley_rate(dx, dy, Ri, Rj, p, a)``, ``lee_hurley_project(dx, dy, Ri, Rj, p, h) -> flags``,
-``lee_hurley_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux) -> flags``; p = PARAMS values,
+``lee_hurley_advance(dx, dy, Ri, Rj, r, delta, lam, p, h, dui, duj, dxj, f, aux, want_aux) -> flags``; p = PARAMS values,
 h the history row (first N_HIST = 2 entries), f (6), jac (6 x 6),
-a (2 x 6), dui, duj (3: the step's displacements of i and j), dxj (j's image's extra x), aux (4: kn, kt, kr, fn; written only with want_aux);
+a (2 x 6), dui, duj (3: the step's displacements of i and j), dxj (j's image's extra x), aux (4: kn, kt, kr, fn; written only with want_aux); r, delta, lam: the pair's geometry (fricstab._numerics.pair_geometry_lanes);
 flags: bit 1 tangential history on its cap, bit 2 rolling; 0 without contact.
 """
 
@@ -392,12 +392,8 @@ def lee_hurley_project(dx, dy, Ri, Rj, p, h):
 
 
 @hot_inline_jit
-def lee_hurley_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux):
-    """One dynamics step at this geometry (width solved once): h += a @ du, cap, forces from the capped history into f, aux = CONTACT if want_aux; returns the flags."""
-    r = np.sqrt(dx * dx + dy * dy)
-    delta = Ri + Rj - r
-    # the accurate overlap of the force kernels, reusing r (fricstab/_numerics.py)
-    delta = delta + overlap_correction_at(dx, dy, Ri, Rj, delta, r)
+def lee_hurley_advance(dx, dy, Ri, Rj, r, delta, lam, p, h, dui, duj, dxj, f, aux, want_aux):
+    """One dynamics step at this geometry (width solved once, by the engine): h += a @ du, cap, forces from the capped history into f, aux = CONTACT if want_aux; returns the flags."""
     if delta <= 0.0:  # no contact: forget the history
         for k in range(2):
             h[k] = 0.0
@@ -414,8 +410,7 @@ def lee_hurley_advance(dx, dy, Ri, Rj, p, h, dui, duj, dxj, f, aux, want_aux):
     nx = dx/r
     ny = dy/r
     # Implicit Hertz-cylinder width: lam = ln(4Ri/a) + ln(4Rj/a) - 1 (Eq. A2),
-    # raises ValueError beyond the turning point delta = 4 (Ri + Rj)/e^2.
-    lam = cylinder_lambda(delta, Ri, Rj)
+    # solved by the engine (fricstab._numerics.pair_geometry_lanes).
     hw = np.sqrt(4.0*Ri*Rj*delta/(lam*(Ri + Rj)))
     g0 = (1.0 / (Rj))
     g1 = (0.5)*np.log(Ri*g0)

@@ -13,7 +13,9 @@ Eight laws, four pair laws and their wall forms (:data:`PAIR_LAW_NAMES`,
 :func:`law_id` of :mod:`fricstab.generated.dispatch`).  Every law has the
 uniform kernels ``eval``, ``rate``, ``project``, ``advance`` (one calling
 convention: geometry ``dx, dy, Ri, Rj`` or ``y, R``, the parameter array ``p``
-in ``params`` order, the history row ``h``; see :mod:`symbolic.codegen`) and
+in ``params`` order, the history row ``h``; a pair's ``advance`` also takes
+``r, delta, lam`` from :func:`fricstab._numerics.pair_geometry`, see
+:attr:`LawInfo.advance_geometry_args`; see :mod:`symbolic.codegen`) and
 the scalar kernels the verification harnesses differentiate.
 """
 
@@ -22,6 +24,7 @@ import math
 from dataclasses import dataclass
 
 from fricstab.errors import ParameterError
+from fricstab.generated import dispatch
 from fricstab.generated import (ALL_LAW_NAMES, CAPPED_LAW_NAMES, LAW_NAMES, PAIR_LAW_NAMES,
                                 WALL_LAW_NAMES)
 
@@ -41,7 +44,8 @@ class LawInfo:
     (the wall form of a pair law, "" for a wall law), ``pair`` (the pair form
     of a wall law, "" for a pair law), ``contact`` (CONTACT: the names of
     ``aux`` of ``advance``), ``law_id`` (the id of the dispatch module, shared
-    by a pair law and its wall form).
+    by a pair law and its wall form), ``width`` (a pair law whose ``advance``
+    reads ``lam``, the Hertz-cylinder width: dispatch's WIDTH).
 
     Kernels: the scalar ``force``, ``force_jacobian``, ``increment`` (None
     without history), ``contact_quantities`` (``<law>_contact`` of a capped
@@ -68,6 +72,7 @@ class LawInfo:
     pair: str
     contact: tuple
     law_id: int
+    width: bool
     force: object
     force_jacobian: object
     increment: object  # None for frictionless laws
@@ -82,6 +87,16 @@ class LawInfo:
     def geometry_args(self):
         """The geometry arguments of the uniform kernels."""
         return ("dx", "dy", "Ri", "Rj") if self.kind == "pair" else ("y", "R")
+
+    @property
+    def advance_geometry_args(self):
+        """The geometry arguments of ``advance``: a pair's also ``r, delta, lam``.
+
+        For a pair they are :func:`fricstab._numerics.pair_geometry` ``(dx, dy,
+        Ri, Rj, law.width)``, which the engine computes for several contacts at
+        once (:func:`fricstab._numerics.pair_geometry_lanes`).
+        """
+        return self.geometry_args + (("r", "delta", "lam") if self.kind == "pair" else ())
 
     def wall_form(self):
         """The :class:`LawInfo` of this pair law's wall form."""
@@ -145,6 +160,7 @@ def get_law(name):
             n_dof=mod.N_DOF, n_hist=mod.N_HIST, rotation=mod.ROTATION, capped=mod.CAPPED,
             wall=getattr(mod, "WALL", ""), pair=getattr(mod, "PAIR", ""),
             contact=mod.CONTACT, law_id=law_id(name),
+            width=mod.KIND == "pair" and dispatch.WIDTH[law_id(name)],
             force=kernel("_force"), force_jacobian=kernel("_force_jacobian"),
             increment=kernel("_increment"), contact_quantities=kernel("_contact"),
             assemble=kernel("_assemble"), eval=kernel("_eval"), rate=kernel("_rate"),

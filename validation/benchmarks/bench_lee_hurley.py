@@ -164,6 +164,7 @@ def measure(state_path, calls, repeats):
 
     # the touching contacts, their overlap and radii, and the counts per kind
     adv, adv_w = _counted(gen.lee_hurley_advance), _counted(gen_wall.lee_hurley_wall_advance)
+    lanes = _counted(_numerics.pair_geometry_lanes)   # the engine's geometry stage, one lane
     p, pw = [_Num(x) for x in system._p], [_Num(x) for x in system._pw]
     deltas, r1, r2, tally = [], [], [], {"pair": [], "wall": []}
     for k in range(c.n):
@@ -174,13 +175,16 @@ def measure(state_path, calls, repeats):
         if j >= 0:
             dx, dy = separation(state.q, i, j, c.m[k], c.k[k], system.lx, system.ly, box[2])
             ri, rj = float(system.radius[i]), float(system.radius[j])
-            adv(_Num(dx), _Num(dy), _Num(ri), _Num(rj), p, h, [_Num(0.0)] * 6, f, aux)
+            g = {(0, col): _Num(x) for col, x in enumerate((dx, dy, ri, rj, 0.0, 0.0, 0.0, 0.0))}
+            lanes(g, 1, True)
+            adv(_Num(dx), _Num(dy), _Num(ri), _Num(rj), g[0, 4], g[0, 5], g[0, 6], p, h,
+                [_Num(0.0)] * 3, [_Num(0.0)] * 3, _Num(0.0), f, aux, True)
             kind, delta, rb = "pair", ri + rj - float(np.hypot(dx, dy)), rj
         else:
             w = -1 - j
             y = (state.q[i, 1] - system.walls[w, 0]) * system.walls[w, 1]
             ri = float(system.radius[i])
-            adv_w(_Num(y), _Num(ri), pw, h, [_Num(0.0)] * 3, f, aux)
+            adv_w(_Num(y), _Num(ri), pw, h, [_Num(0.0)] * 3, f, aux, True)
             kind, delta, rb = "wall", ri - y, float(system._pw[-1])
         if aux[3] > 0.0:
             tally[kind].append(dict(_Num.counts))
