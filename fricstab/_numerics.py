@@ -231,8 +231,8 @@ def pair_geometry_lanes(g, n, width):
     values are theirs to the last bit; the lanes go through each stage
     together, so the processor overlaps their long chains of square roots,
     divisions and logarithms, which one contact at a time leaves waiting on
-    each other (the solve of ``lam`` alone: 37.6 ns a contact one by one, 17.2
-    in lanes of 8; docs/concepts/performance.md).  A lane with NaN ``delta``
+    each other (the solve of ``lam`` alone: 37.6 ns a contact one by one, 16.3
+    in lanes of 16; docs/concepts/performance.md).  A lane with NaN ``delta``
     raises as :func:`cylinder_lambda` does.
     """
     for k in range(n):

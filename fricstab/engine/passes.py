@@ -58,9 +58,8 @@ APART = 1e-12
 #: computed in lanes (:func:`fricstab._numerics.pair_geometry_lanes`; measured in
 #: docs/concepts/performance.md).  The scratch ``work`` has ``8 + LANES`` rows.
 LANES = 16
-#: A block position's tag (``work[8 + b, 8]``) when it is not a lane.
+#: A pair's block-position tag (``work[8 + b, 8]``) when it is apart (no lane).
 APART_TAG = -1.0
-WALL_TAG = -2.0
 
 
 @hot_inline_jit
@@ -280,7 +279,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     zero3 = work[5, :3]
     zero3[:] = 0.0
     # rows 8 ..: the lanes (columns LANE_COLUMNS) and, in column 8 of row 8 + b,
-    # what block position b is: its lane, APART_TAG or WALL_TAG
+    # the lane of the pair at block position b, or APART_TAG (walls: no tag)
     lanes = work[8:8 + LANES, :8]
     tags = work[8:8 + LANES, 8]
     width = WIDTH[law]
@@ -296,7 +295,6 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
         for c in range(blo, bhi):
             j = cj[c]
             if j < 0:
-                tags[c - blo] = WALL_TAG
                 continue
             iu = np.uint64(ci[c])
             ju = np.uint64(j)
