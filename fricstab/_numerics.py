@@ -40,7 +40,8 @@ from numba.extending import intrinsic, overload
 from fricstab._numba import hot_inline_jit, kernel_jit
 
 __all__ = ["LANE_COLUMNS", "contact_halfwidth", "cylinder_lambda", "overlap_correction",
-           "overlap_correction_at", "pair_geometry", "pair_geometry_lanes", "turning_overlap"]
+           "overlap_correction_at", "pair_geometry", "pair_geometry_lanes", "pair_overlap",
+           "turning_overlap"]
 
 
 @intrinsic
@@ -214,6 +215,20 @@ def pair_geometry(dx, dy, ri, rj, width):
     return g[0, 4], g[0, 5], g[0, 6]
 
 
+@hot_inline_jit
+def pair_overlap(dx, dy, ri, rj):
+    """``(r, delta)``: centre distance ``sqrt(dx^2 + dy^2)`` and accurate overlap of a pair.
+
+    ``delta = R_i + R_j - r`` plus :func:`overlap_correction_at`: what the
+    generated kernels compute, to the bit.  The engine's contact loop calls
+    it per contact for a law without a contact width and per lane
+    (:func:`pair_geometry_lanes`) for one with.
+    """
+    r = np.sqrt(dx * dx + dy * dy)
+    d = ri + rj - r
+    return r, d + overlap_correction_at(dx, dy, ri, rj, d, r)
+
+
 #: Columns of a lane of :func:`pair_geometry_lanes`.
 LANE_COLUMNS = ("dx", "dy", "Ri", "Rj", "r", "delta", "lam", "B")
 
@@ -236,12 +251,9 @@ def pair_geometry_lanes(g, n, width):
     raises as :func:`cylinder_lambda` does.
     """
     for k in range(n):
-        dx = g[k, 0]
-        dy = g[k, 1]
-        r = np.sqrt(dx * dx + dy * dy)
-        d = g[k, 2] + g[k, 3] - r
+        r, delta = pair_overlap(g[k, 0], g[k, 1], g[k, 2], g[k, 3])
         g[k, 4] = r
-        g[k, 5] = d + overlap_correction_at(dx, dy, g[k, 2], g[k, 3], d, r)
+        g[k, 5] = delta
     if not width:
         return
     for k in range(n):

@@ -38,7 +38,7 @@ Passes
 import numpy as np
 
 from fricstab._numba import hot_inline_jit, hot_jit
-from fricstab._numerics import pair_geometry_lanes
+from fricstab._numerics import pair_geometry_lanes, pair_overlap
 from fricstab.engine.contacts import separation
 from fricstab.generated.dispatch import (WIDTH, pair_advance, pair_eval, pair_project, pair_rate,
                                          wall_advance, wall_eval, wall_project, wall_rate)
@@ -55,7 +55,8 @@ __all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_
 APART = 1e-12
 
 #: Contacts per block of :func:`advance_range`, whose pairs' geometry is
-#: computed in lanes (:func:`fricstab._numerics.pair_geometry_lanes`; measured in
+#: computed in lanes for a law with a contact width
+#: (:func:`fricstab._numerics.pair_geometry_lanes`; measured in
 #: docs/concepts/performance.md).  The scratch ``work`` has ``8 + LANES`` rows.
 LANES = 16
 #: A pair's block-position tag (``work[8 + b, 8]``) when it is apart (no lane).
@@ -259,12 +260,17 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                   ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
     """The body of :func:`advance_range`, inlined into it once per law branch.
 
-    The contacts go in blocks of :data:`LANES`: first the geometry of the
-    block's pairs that are not apart (separation, centre distance, accurate
-    overlap and, for a law with a contact width, its solve), lane by lane
+    For a law with a contact width (``WIDTH[law]``, Lee & Hurley) the
+    contacts go in blocks of :data:`LANES`: first the geometry of the block's
+    pairs that are not apart (separation, centre distance, accurate overlap
+    and the width's solve), lane by lane
     (:func:`fricstab._numerics.pair_geometry_lanes`: the values are one
     contact's to the bit, the processor overlaps the lanes' square roots and
-    logarithms); then each contact of the block in order, as before.
+    logarithms); then each contact of the block in order.  For the other
+    laws each contact computes its own (:func:`fricstab._numerics.pair_overlap`,
+    the same values): their geometry is short, and the lanes' stores and
+    loads cost more than they overlap (packing, Ishima: 87 us a step against
+    109 in lanes; docs/concepts/performance.md).
     Particle indices are read as unsigned integers where they index arrays:
     numba then omits the wraparound of negative indices (a wall contact's
     ``j < 0`` is decoded before).  The kernels write ``aux`` only when a
@@ -292,7 +298,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     for blo in range(lo, hi, LANES):
         bhi = min(blo + LANES, hi)
         n = 0
-        for c in range(blo, bhi):
+        for c in range(blo, bhi if width else blo):
             j = cj[c]
             if j < 0:
                 continue
@@ -310,7 +316,8 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
             lanes[n, 2] = ri
             lanes[n, 3] = rj
             n += 1
-        pair_geometry_lanes(lanes, n, width)
+        if width:
+            pair_geometry_lanes(lanes, n, width)
         for c in range(blo, bhi):
             i = ci[c]
             j = cj[c]
@@ -326,10 +333,28 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                 a1 = f[iu, 1]
                 a2 = f[iu, 2]
             live[c] = 1
-            tag = tags[c - blo]
             if j >= 0:
                 ju = np.uint64(j)
-                if tag == APART_TAG:
+                if width:   # the lanes hold the geometry
+                    k = int(tags[c - blo])
+                    apart = k < 0   # APART_TAG
+                    if not apart:
+                        dx = lanes[k, 0]
+                        dy = lanes[k, 1]
+                        ri = lanes[k, 2]
+                        rj = lanes[k, 3]
+                        r = lanes[k, 4]
+                        delta = lanes[k, 5]
+                        lam = lanes[k, 6]
+                else:   # the same values, contact by contact (no lanes: cheaper for these laws)
+                    dx, dy = separation(q, iu, ju, cm[c], ck[c], lx, ly, shift)
+                    ri = radius[iu]
+                    rj = radius[ju]
+                    apart = _apart(dx, dy, ri, rj)
+                    if not apart:
+                        r, delta = pair_overlap(dx, dy, ri, rj)
+                        lam = 0.0
+                if apart:
                     for b in range(hist.shape[1]):
                         hist[c, b] = 0.0  # a contact that opened forgets its history
                     flag[c] = 0
@@ -339,14 +364,8 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                         cout[c, 1] = 0.0
                         cout[c, 2] = 0.0
                     continue
-                k = int(tag)
-                dx = lanes[k, 0]
-                dy = lanes[k, 1]
-                ri = lanes[k, 2]
-                rj = lanes[k, 3]
-                r = lanes[k, 4]
-                fl = pair_advance(law, dx, dy, ri, rj, r, lanes[k, 5], lanes[k, 6], p, hist[c],
-                                  dq[iu], dq[ju], ck[c] * dshift, fc, aux, want_aux)
+                fl = pair_advance(law, dx, dy, ri, rj, r, delta, lam, p, hist[c], dq[iu], dq[ju],
+                                  ck[c] * dshift, fc, aux, want_aux)
                 if damped and aux[3] > 0.0:
                     for b in range(3):
                         vj[b] = v[ju, b]
