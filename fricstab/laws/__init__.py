@@ -94,7 +94,9 @@ class LawInfo:
 
         For a pair they are :func:`fricstab._numerics.pair_geometry` ``(dx, dy,
         Ri, Rj, law.width)``, which the engine computes for several contacts at
-        once (:func:`fricstab._numerics.pair_geometry_lanes`).
+        once for a law with a width (:func:`fricstab._numerics.pair_geometry_lanes`)
+        and contact by contact for the others
+        (:func:`fricstab._numerics.pair_overlap`; ``lam`` 0.0).
         """
         return self.geometry_args + (("r", "delta", "lam") if self.kind == "pair" else ())
 
