@@ -321,7 +321,7 @@ def time_scene(scene, n, steps, repeats, tmp):
         k = max(rates, key=rates.get)
         best.append(rates[k])
         others = "; ".join(f"{o} {r:.3g}" for o, r in rates.items() if o != k)
-        cells.append(f"{rates[k]:.3g}" + (f" ({k}; {others})" if k else ""))
+        cells.append(f"{rates[k]:.4g}" + (f" ({k}; {others})" if k else ""))
     return system.n, (ours[0], best[0], ours[1], best[1]), cells
 
 
@@ -364,9 +364,10 @@ def main(argv=None):
                 steps = int(max(200, work / n))
                 size, r, cells = time_scene(scene, n, steps, repeats, tmp)
                 plot.setdefault(scene, []).append((size, r))
-                table.append((SCENES[scene][1], size, steps, f"{r[0]:.3g}", cells[0],
-                              f"**{r[0] / r[1]:.2f}**", f"{r[2]:.3g}", cells[1],
-                              f"**{r[2] / r[3]:.2f}**"))
+                # ratios to three decimals: two would print 1.296 as 1.30, on the floor
+                table.append((SCENES[scene][1], size, steps, f"{r[0]:.4g}", cells[0],
+                              f"**{r[0] / r[1]:.3f}**", f"{r[2]:.4g}", cells[1],
+                              f"**{r[2] / r[3]:.3f}**"))
                 print(table[-1], flush=True)
     write_table("lammps", "Throughput: fricstab DEM against LAMMPS (particle-steps per second)",
                 ["`python validation/benchmarks/bench_lammps.py"
