@@ -477,7 +477,7 @@ def generate_dispatch(laws):
               "        a[k, b] = 0.0", f"raise ValueError('{kind}_rate: unknown contact law id')"]),
             ("_project", "p, h", True,
              ["for k in range(h.shape[0]):", "    h[k] = 0.0", "return UNKNOWN_LAW"]),
-            ("_advance", ("r, delta, lam, " if kind == "pair" else "")
+            ("_advance", "".join(f"{g}, " for g in _PAIR_GEOMETRY if kind == "pair")
              + f"p, h, {', '.join(_DU_ARGS[kind])}, f, aux, want_aux", True,
              ["for k in range(h.shape[0]):", "    h[k] = 0.0", "for k in range(f.shape[0]):",
               "    f[k] = 0.0", "if want_aux:", "    for k in range(aux.shape[0]):",

@@ -297,26 +297,26 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     a0 = a1 = a2 = 0.0
     for blo in range(lo, hi, LANES):
         bhi = min(blo + LANES, hi)
-        n = 0
-        for c in range(blo, bhi if width else blo):
-            j = cj[c]
-            if j < 0:
-                continue
-            iu = np.uint64(ci[c])
-            ju = np.uint64(j)
-            dx, dy = separation(q, iu, ju, cm[c], ck[c], lx, ly, shift)
-            ri = radius[iu]
-            rj = radius[ju]
-            if _apart(dx, dy, ri, rj):
-                tags[c - blo] = APART_TAG
-                continue
-            tags[c - blo] = n
-            lanes[n, 0] = dx
-            lanes[n, 1] = dy
-            lanes[n, 2] = ri
-            lanes[n, 3] = rj
-            n += 1
         if width:
+            n = 0
+            for c in range(blo, bhi):
+                j = cj[c]
+                if j < 0:
+                    continue
+                iu = np.uint64(ci[c])
+                ju = np.uint64(j)
+                dx, dy = separation(q, iu, ju, cm[c], ck[c], lx, ly, shift)
+                ri = radius[iu]
+                rj = radius[ju]
+                if _apart(dx, dy, ri, rj):
+                    tags[c - blo] = APART_TAG
+                    continue
+                tags[c - blo] = n
+                lanes[n, 0] = dx
+                lanes[n, 1] = dy
+                lanes[n, 2] = ri
+                lanes[n, 3] = rj
+                n += 1
             pair_geometry_lanes(lanes, n, width)
         for c in range(blo, bhi):
             i = ci[c]
@@ -413,8 +413,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                     a1 += fc[dof + 1]
                     if dof == 3:
                         a2 += fc[5]
-                elif j >= 0:
-                    ju = np.uint64(j)
+                elif j >= 0:   # ju: set in the pair branch above
                     for b in range(dof):
                         f[ju, b] += fc[dof + b]
             flag[c] = fl
