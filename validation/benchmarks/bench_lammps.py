@@ -318,8 +318,10 @@ def time_scene(scene, n, steps, repeats, tmp):
     each LAMMPS deck on 1 core, then on 2, one run each, so that both codes
     sample the same minutes of a machine whose speed drifts by tens of per
     cent from minute to minute (measured: docs/concepts/performance.md).
-    Rates are the medians over the rounds; a spread is the lowest and highest
-    per-round ratio (ours / the deck with the best median).
+    Rates are the medians over the rounds; a spread is the median, lowest and
+    highest per-round ratio (ours / the deck with the best median): within a
+    round the two codes run seconds apart, so its ratio sees one state of the
+    machine.
     """
     system, state, dt, controls, decks = case(scene, n, tmp)
     two = min(2, available_threads())
@@ -339,7 +341,8 @@ def time_scene(scene, n, steps, repeats, tmp):
         others = "; ".join(f"{o} {r:.3g}" for o, r in med.items() if o != k)
         cells.append(f"{med[k]:.4g}" + (f" ({k}; {others})" if k else ""))
         per_round = [a / b for a, b in zip(ours[procs], theirs[procs][k])]
-        spreads.append(f"{min(per_round):.2f}-{max(per_round):.2f}")
+        spreads.append(f"{statistics.median(per_round):.3f}; {min(per_round):.2f}-"
+                       f"{max(per_round):.2f}")
     return system.n, tuple(rates), cells, spreads
 
 
@@ -448,9 +451,10 @@ def notes(repeats, work, seconds, shear):
         "N within 0.3 % of its target." + coeffs,
         f"{repeats} rounds, each one run of each code and deck on 1 core and then on 2, about "
         f"{work:.0e} particle-steps per run, after a warm-up of 10 steps in both codes; rates "
-        "are medians over the rounds, ratios those of the medians, and in brackets the lowest "
-        "and highest ratio of one round (ours / the LAMMPS deck with the best median): the "
-        "machine's speed drifts from minute to minute, so the codes are timed in turns. "
+        "are medians over the rounds, ratios those of the medians, and in brackets the median, "
+        "lowest and highest ratio of one round (ours / the LAMMPS deck with the best median; "
+        "within a round the codes run seconds apart): the machine's speed drifts from minute "
+        "to minute, so the codes are timed in turns. "
         "LAMMPS `Loop time`, ours `time.perf_counter` around `fricstab.engine.run` "
         "(compilation excluded). "
         f"Total {seconds:.0f} s (with any packing or shear cell not yet cached in "
