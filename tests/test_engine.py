@@ -277,4 +277,6 @@ def test_driven_force_reads_only_the_driven_contacts_with_the_same_sums():
                 want[b] -= fcon[c, b]
     assert meas[0] == want[0] and meas[1] == want[1]
     contacts = type("C", (), {"n": k, "i": ci, "j": cj})()
-    assert np.array_equal(parallel.workspace(contacts, n, 2, family)[4], drv)
+    system = type("S", (), {"n": n, "family": family, "radius": np.ones(n),
+                            "damping_mass": np.ones(n), "damping_inertia": np.ones(n)})()
+    assert np.array_equal(parallel.workspace(contacts, system, 2)[4], drv)

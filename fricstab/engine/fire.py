@@ -46,7 +46,7 @@ class FireParameters:
 
 
 @hot_jit
-def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, idamp, family,
+def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, family,
           ext, lx, ly, shift, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, meas,
           par, sv, it0, stop, max_iter, tol, fcon, live, pstart, pidx, drv, work, errs):
     """FIRE iterations ``it0 .. stop`` (of ``max_iter``); ``sv = [dt, chi, n_pos]``
@@ -69,10 +69,10 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, mdamp, ida
     box[4] = 0.0
     no = n < 0   # False, but not a literal constant: one compiled advance_pass for both callers
     for it in range(it0, stop + 1):
-        bad, _ = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
-                                       box, damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
-                                       new, dof, meas, no, no, fcon, live, pstart, pidx, drv, work,
-                                       errs, gmass, 0.0, 1.0, no)   # no kick: FIRE's own (A6)
+        bad, _ = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, box, damp,
+                                       ci, cj, cm, ck, hist, flag, cout, ext, family, new, dof,
+                                       meas, no, no, fcon, live, pstart, pidx, drv, work, errs,
+                                       gmass, 0.0, 1.0, no)   # no kick: FIRE's own (A6)
         if bad >= 0:
             sv[0], sv[1], sv[2] = dt, chi, n_pos
             return it, BAD_LAW, float(bad)
@@ -188,11 +188,10 @@ def fire(system, state, tol, max_iter, params=FireParameters()):
             end = min(max_iter, it + chunk - 1)
         if state.contacts is not c:
             c = state.contacts
-            space = parallel.workspace(c, n, n_chunks, system.family)
+            space = parallel.workspace(c, system, n_chunks)
         it, status, res = _fire(system.law_id, system._p, system._pw, system.walls, state.q,
                                 state.v, f, new, dq, system.gmass, system.radius, system.rscale,
-                                system.damping_mass, system.damping_inertia, system.family,
-                                system.external, float(system.lx), float(system.ly),
+                                system.family, system.external, float(system.lx), float(system.ly),
                                 float(state.shift), c.i, c.j, c.m, c.k, c.hist, c.flag, c.out,
                                 state.ref, float(system.skin), system.dof, system.damping, meas,
                                 par, sv, it, end, max_iter, float(tol), *space)

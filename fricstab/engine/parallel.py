@@ -118,20 +118,29 @@ def chunks(n_particles):
     return threads
 
 
-def workspace(contacts, n, n_chunks, family):
-    """Scratch of :func:`advance_pass` for a contact list: ``(fcon, live, pstart, pidx, drv,
-    work, errs)``; ``drv`` lists the contacts that touch a driven particle (``family`` 2), in
-    contact order (:func:`~fricstab.engine.passes.driven_force` reads only their rows)."""
+def workspace(contacts, system, n_chunks):
+    """Scratch of :func:`advance_pass` for a contact list of ``system``: ``(fcon, live, pstart,
+    pidx, drv, work, errs)``.
+
+    ``fcon`` (K, 8): columns 0-5 each contact's forces of a pass, 6-7 its
+    dashpots' effective mass and inertia, constants of the list
+    (:func:`~fricstab.engine.passes.effective_masses`); ``drv`` lists the
+    contacts that touch a driven particle (``family`` 2), in contact order
+    (:func:`~fricstab.engine.passes.driven_force` reads only their rows).
+    """
     k = contacts.n
-    pstart, pidx = passes.layout(contacts.i, contacts.j, n)
-    return (np.zeros((k, 6)), np.zeros(k, np.int8), pstart, pidx,
-            passes.driven_contacts(contacts.i, contacts.j, family),
+    pstart, pidx = passes.layout(contacts.i, contacts.j, system.n)
+    fcon = np.zeros((k, 8))
+    passes.effective_masses(contacts.i, contacts.j, system.radius, system.damping_mass,
+                            system.damping_inertia, fcon[:, 6:])
+    return (fcon, np.zeros(k, np.int8), pstart, pidx,
+            passes.driven_contacts(contacts.i, contacts.j, system.family),
             np.zeros((n_chunks, 8 + passes.LANES, 9)), np.full(n_chunks, -1, np.int64))
 
 
 @hot_jit
-def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj,
-             cm, ck, hist, flag, cout, fcon, live, dof, work, want_out):
+def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck,
+             hist, flag, cout, fcon, live, dof, work, want_out):
     """:func:`~fricstab.engine.passes.advance_range`: -1, or ``lo`` if a kernel raised.
 
     An exception cannot leave a thread of a parallel region (numba reports a
@@ -139,25 +148,25 @@ def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, 
     """
     try:   # no scatter: hi < lo is False, and not a literal constant (which would
         #        compile another specialization of the pass)
-        passes.advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp,
-                             box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work,
-                             want_out, fcon, hi < lo)
+        passes.advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci,
+                             cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, fcon,
+                             hi < lo)
     except Exception:  # noqa: BLE001 - numba catches every exception or none
         return lo
     return -1
 
 
 @threads_jit
-def _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm,
-             ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs,
-             ginv, family, half, implicit, kick):
+def _threads(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist, flag,
+             cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs, ginv, family,
+             half, implicit, kick):
     n_chunks = errs.shape[0]
     k = ci.shape[0]
     n = q.shape[0]
     for t in prange(n_chunks):
         errs[t] = _guarded(t * k // n_chunks, (t + 1) * k // n_chunks, law, p, pw, walls, q, dq,
-                           v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm, ck, hist, flag,
-                           cout, fcon, live, dof, work[t], want_out)
+                           v, radius, rscale, box, damp, ci, cj, cm, ck, hist, flag, cout, fcon,
+                           live, dof, work[t], want_out)
     for t in prange(n_chunks):
         lo = t * n // n_chunks
         hi = (t + 1) * n // n_chunks
@@ -167,9 +176,9 @@ def _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, dam
 
 
 @hot_jit
-def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj,
-                 cm, ck, hist, flag, cout, ext, family, f, dof, meas, want_out, track_driven,
-                 fcon, live, pstart, pidx, drv, work, errs, ginv, half, implicit, kick):
+def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist,
+                 flag, cout, ext, family, f, dof, meas, want_out, track_driven, fcon, live,
+                 pstart, pidx, drv, work, errs, ginv, half, implicit, kick):
     """One dynamics step of every contact at ``q``; forces into ``f`` (``ext`` first).
 
     ``box`` as in :func:`~fricstab.engine.passes.advance_range`; the scratch
@@ -192,9 +201,9 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
     bad_f = -1
     n_chunks = errs.shape[0]
     if n_chunks > 1:
-        _threads(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp, ci, cj, cm,
-                 ck, hist, flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs,
-                 ginv, family, half, implicit, kick)
+        _threads(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist,
+                 flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs, ginv,
+                 family, half, implicit, kick)
         for t in range(n_chunks):
             if errs[t] >= 0:
                 bad = errs[t]
@@ -211,9 +220,9 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
         # lo = 0 and scatter = True as variables, not literal constants: numba would
         # compile another specialization of the pass for them
         k = ci.shape[0]
-        passes.advance_range(k - k, k, law, p, pw, walls, q, dq, v, radius, rscale, mdamp,
-                             idamp, box, damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof,
-                             work[0], want_out, f, k >= 0)
+        passes.advance_range(k - k, k, law, p, pw, walls, q, dq, v, radius, rscale, box, damp,
+                             ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work[0],
+                             want_out, f, k >= 0)
         if kick:
             bad_f = kick_range(k - k, q.shape[0], f, v, ginv, family, dof, half, implicit)
     if track_driven:

@@ -43,8 +43,8 @@ from fricstab.engine.contacts import separation
 from fricstab.generated.dispatch import (WIDTH, pair_advance, pair_eval, pair_project, pair_rate,
                                          wall_advance, wall_eval, wall_project, wall_rate)
 
-__all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_force", "eval_pass",
-           "gather_range", "increment_pass", "layout", "project_pass"]
+__all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_force",
+           "effective_masses", "eval_pass", "gather_range", "increment_pass", "layout", "project_pass"]
 
 
 
@@ -172,16 +172,43 @@ def project_pass(law, p, pw, walls, q, radius, lx, ly, shift, ci, cj, cm, ck, hi
 
 
 @hot_jit
-def _damping(dx, dy, r, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp,
+def effective_masses(ci, cj, radius, mdamp, idamp, out):
+    """The dashpots' ``m*`` and ``I_r`` of each contact into ``out[:, 0]``, ``out[:, 1]``.
+
+    ``1/m* = 1/m_i + 1/m_j`` and ``1/I_r = 1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2)``
+    (Lee & Hurley A4, A19) from the damping masses and inertias; a wall
+    contact's partner has ``m_j = I_j = inf`` (and ``R_j = R_i``, which then
+    does not matter).  Constants of a contact list: :func:`fricstab.engine.
+    parallel.workspace` computes them once, :func:`advance_range` reads them.
+    """
+    for c in range(ci.shape[0]):
+        i = ci[c]
+        j = cj[c]
+        mi = mdamp[i]
+        ii = idamp[i]
+        ri = radius[i]
+        if j >= 0:
+            mj = mdamp[j]
+            ij = idamp[j]
+            rj = radius[j]
+        else:
+            mj = np.inf
+            ij = np.inf
+            rj = ri
+        out[c, 0] = 1.0 / (1.0 / mi + 1.0 / mj)
+        out[c, 1] = 1.0 / (1.0 / (ii + mi * ri * ri) + 1.0 / (ij + mj * rj * rj))
+
+
+@hot_inline_jit
+def _damping(dx, dy, r, ri, rj, si, sj, vi, vj, kn, kt, kr, m_eff, i_eff, damp,
              rolling_slides, out):
     """Dashpot forces on i (x, y) and torques on i and j (Lee & Hurley A4, A12, A19-A22).
 
     ``gamma_n = 2 alpha_n sqrt(kn m*)``, ``gamma_t = 2 alpha_t sqrt(kt m*)``,
-    ``C_r = 2 eta_r sqrt(I_r kr)`` with ``1/m* = 1/m_i + 1/m_j`` and
-    ``1/I_r = 1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2)``; ``kn, kt, kr`` the
-    law's secant stiffnesses.  ``vi, vj`` are generalized velocities; the
-    physical angular velocity is ``v[2] / s``.  A wall is ``mj = ij = inf``.
-    ``r = np.sqrt(dx * dx + dy * dy)``, as the caller has it.
+    ``C_r = 2 eta_r sqrt(I_r kr)`` with the contact's ``m*`` and ``I_r``
+    (:func:`effective_masses`); ``kn, kt, kr`` the law's secant stiffnesses.
+    ``vi, vj`` are generalized velocities; the physical angular velocity is
+    ``v[2] / s``.  ``r = np.sqrt(dx * dx + dy * dy)``, as the caller has it.
     """
     nx = dx / r
     ny = dy / r
@@ -193,8 +220,6 @@ def _damping(dx, dy, r, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp
     vy = vi[1] - vj[1]
     vn = vx * nx + vy * ny
     vt = vx * tx + vy * ty - (ri * wi + rj * wj)
-    m_eff = 1.0 / (1.0 / mi + 1.0 / mj)
-    i_eff = 1.0 / (1.0 / (ii + mi * ri * ri) + 1.0 / (ij + mj * rj * rj))
     gn = 2.0 * damp[0] * np.sqrt(kn * m_eff)
     gt = 2.0 * damp[1] * np.sqrt(kt * m_eff)
     cr = 2.0 * damp[2] * np.sqrt(i_eff * kr)
@@ -206,8 +231,8 @@ def _damping(dx, dy, r, ri, rj, si, sj, vi, vj, kn, kt, kr, mi, mj, ii, ij, damp
 
 
 @hot_jit
-def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp,
-                  ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
+def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm,
+                  ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
     """One dynamics step of contacts ``lo .. hi - 1`` at the new configuration ``q``.
 
     ``box = (lx, ly, shift, dshift, shift_rate)``: the periods, the
@@ -215,7 +240,8 @@ def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     3) is the displacement of the step (the image of a contact with
     ``k != 0`` moves by ``k dshift`` more in x); ``v`` the velocities of
     the drift (for the dashpots, ``damp = (alpha_n, alpha_t, eta_r)``, off
-    when all are 0).  Each contact writes only its own rows: its generalized
+    when all are 0; their effective mass and inertia in ``fcon[c, 6:8]``,
+    :func:`effective_masses`).  Each contact writes only its own rows: its generalized
     forces into ``fcon[c]`` (on i in ``0 .. dof - 1``, on j in ``dof .. 2 dof - 1``;
     a wall contact's on i in global axes), ``live[c] = 0`` for a pair apart by
     far (no force: :func:`gather_range` skips it) and 1 otherwise; ``cout[c]``
@@ -238,26 +264,22 @@ def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
     # one branch per law with a rotation (dispatch.N_DOF[law] == 3); the last
     # branch is correct for every law
     if law == 1 and dof == 3:
-        _advance_loop(lo, hi, 1, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
-                      damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f,
-                      scatter)
+        _advance_loop(lo, hi, 1, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj,
+                      cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f, scatter)
     elif law == 2 and dof == 3:
-        _advance_loop(lo, hi, 2, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
-                      damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f,
-                      scatter)
+        _advance_loop(lo, hi, 2, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj,
+                      cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f, scatter)
     elif law == 3 and dof == 3:
-        _advance_loop(lo, hi, 3, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
-                      damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f,
-                      scatter)
+        _advance_loop(lo, hi, 3, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj,
+                      cm, ck, hist, flag, cout, fcon, live, 3, work, want_out, f, scatter)
     else:
-        _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box,
-                      damp, ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out,
-                      f, scatter)
+        _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj,
+                      cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter)
 
 
 @hot_inline_jit
-def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, idamp, box, damp,
-                  ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
+def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm,
+                  ck, hist, flag, cout, fcon, live, dof, work, want_out, f, scatter):
     """The body of :func:`advance_range`, inlined into it once per law branch.
 
     For a law with a contact width (``WIDTH[law]``, Lee & Hurley) the
@@ -371,8 +393,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                         vj[b] = v[ju, b]
                     vj[0] += ck[c] * shift_rate
                     _damping(dx, dy, r, ri, rj, rscale[iu], rscale[ju], v[iu], vj, aux[0],
-                             aux[1], aux[2], mdamp[iu], mdamp[ju], idamp[iu], idamp[ju], damp,
-                             (fl & 2) != 0, dmp)
+                             aux[1], aux[2], fcon[c, 6], fcon[c, 7], damp, (fl & 2) != 0, dmp)
                     fc[0] += dmp[0]
                     fc[1] += dmp[1]
                     fc[dof] -= dmp[0]
@@ -395,8 +416,8 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, mdamp, id
                     # mass and inertia; its radius only enters multiplied by them)
                     rw = radius[i] + abs(y)
                     _damping(0.0, rw, np.sqrt(rw * rw), radius[i], radius[i], rscale[i],
-                             1.0, vj, zero3, aux[0], aux[1], aux[2], mdamp[i], np.inf, idamp[i],
-                             np.inf, damp, (fl & 2) != 0, dmp)
+                             1.0, vj, zero3, aux[0], aux[1], aux[2], fcon[c, 6], fcon[c, 7],
+                             damp, (fl & 2) != 0, dmp)
                     fc[0] += dmp[0]
                     fc[1] += dmp[1]
                     if dof == 3:

@@ -137,10 +137,10 @@ def _drift(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
 
 
 @hot_jit
-def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, family, ext,
-          lx, ly, shiftv, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas,
-          dt, step0, n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every,
-          dqh, fcon, live, pstart, pidx, drv, work, errs):
+def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx, ly, shiftv, ci,
+          cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas, dt, step0, n_steps, mid,
+          record_every, frame0, rec_q, rec_v, rec_h, tol, check_every, dqh, fcon, live, pstart,
+          pidx, drv, work, errs):
     """Steps ``step0 .. n_steps - 1``; returns (step, status, item, frame, residual).
 
     ``shiftv = [shift, ref_shift, time]`` is updated in place.  ``mid``: the
@@ -204,11 +204,11 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, mdamp, idamp, fa
         box[2] = shiftv[0]
         # forces, then each particle's second half kick (kick = n_drv >= 0: True, and not a
         # literal constant, which would compile another advance_pass beside FIRE's)
-        bad, bad_f = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, mdamp,
-                                           idamp, box, damp, ci, cj, cm, ck, hist, flag, cout,
-                                           ext, family, f, dof, meas, step == n_steps - 1,
-                                           n_drv > 0, fcon, live, pstart, pidx, drv, work, errs,
-                                           ginv, half, implicit, n_drv >= 0)
+        bad, bad_f = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, box,
+                                           damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
+                                           f, dof, meas, step == n_steps - 1, n_drv > 0, fcon,
+                                           live, pstart, pidx, drv, work, errs, ginv, half,
+                                           implicit, n_drv >= 0)
         if bad >= 0:
             return step + 1, BAD_LAW, bad, frame, residual
         if bad_f >= 0:
@@ -330,17 +330,16 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             end = min(n_steps, step + chunk)
         if state.contacts is not c or space is None:
             c = state.contacts
-            space = parallel.workspace(c, system.n, n_chunks, system.family)
+            space = parallel.workspace(c, system, n_chunks)
         if record_hist and c.n != rec_h.shape[1]:
             raise ValueError("record_hist needs a contact list that never changes")
         step, status, item, frame, residual = _loop(
             system.law_id, system._p, system._pw, system.walls, state.q, state.v, f, dq,
-            system.ginv, system.radius, system.rscale, system.damping_mass,
-            system.damping_inertia, system.family, system.external, float(system.lx),
-            float(system.ly), shiftv, c.i, c.j, c.m, c.k, c.hist, c.flag, c.out, state.ref,
-            float(system.skin), system.dof, system.damping, ctrl, meas, float(dt), step,
-            end, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol), check_every, dqh,
-            *space)
+            system.ginv, system.radius, system.rscale, system.family, system.external,
+            float(system.lx), float(system.ly), shiftv, c.i, c.j, c.m, c.k, c.hist, c.flag,
+            c.out, state.ref, float(system.skin), system.dof, system.damping, ctrl, meas,
+            float(dt), step, end, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol),
+            check_every, dqh, *space)
         state.shift, state.ref_shift, state.time = shiftv
         mid = False
         if status == REBUILD:

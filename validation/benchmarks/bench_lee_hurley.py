@@ -142,16 +142,21 @@ def measure(state_path, calls, repeats):
     system, state = sim.system, sim.state
     c, n = state.contacts, len(system.radius)
     try:
-        space = parallel.workspace(c, n, 1, system.family)
-    except TypeError:   # a revision before the driven-contact list (--against)
-        space = parallel.workspace(c, n, 1)
+        space = parallel.workspace(c, system, 1)
+    except TypeError:   # --against a revision before the dashpots' masses per contact
+        try:
+            space = parallel.workspace(c, n, 1, system.family)
+        except TypeError:   # or before the driven-contact list
+            space = parallel.workspace(c, n, 1)
     fcon, live, work = space[0], space[1], space[-2]
     dq = np.zeros((n, 3))
     box = np.array([system.lx, system.ly, float(state.shift), 0.0, 0.0])
+    code = passes.advance_range.py_func.__code__
+    masses = ((system.damping_mass, system.damping_inertia)
+              if "mdamp" in code.co_varnames[:code.co_argcount] else ())
     args = (system.law_id, system._p, system._pw, system.walls, state.q, dq, state.v,
-            system.radius, system.rscale, system.damping_mass, system.damping_inertia, box,
-            system.damping, c.i, c.j, c.m, c.k, c.hist, c.flag, c.out, fcon, live, system.dof,
-            work[0], False)
+            system.radius, system.rscale, *masses, box, system.damping, c.i, c.j, c.m, c.k,
+            c.hist, c.flag, c.out, fcon, live, system.dof, work[0], False)
     if passes.advance_range.py_func.__code__.co_argcount > len(args) + 2:
         args += (fcon, False)   # (f, scatter) of the engine since d679a8f: no scatter here
     passes.advance_range(0, c.n, *args)  # compile / warm
