@@ -471,16 +471,31 @@ def test_parameters_are_checked():
 
 
 def _dashpot(vi, vj, mi, mj, ii, ij, damp=(0.1, 0.2, 0.3), kn=2.0, kt=1.0, kr=0.5):
-    """The engine's dashpot of a contact along x (n = (1, 0), t = (0, 1)), radii 1."""
-    from fricstab.engine.passes import _damping
+    """The engine's dashpot of a contact along x (n = (1, 0), t = (0, 1)), radii 1, with the
+    contact's m* and I_r as the engine computes them once per contact list."""
+    from fricstab.engine.passes import _damping, effective_masses
+    masses = np.zeros((1, 8))[:, 6:]   # as the engine stores them (fcon[:, 6:8])
+    effective_masses(np.array([0]), np.array([1]), np.ones(2), np.array([mi, mj]),
+                     np.array([ii, ij]), masses)
     out = np.zeros(4)
     _damping(1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, np.array(vi, float), np.array(vj, float), kn, kt,
-             kr, mi, mj, ii, ij, np.array(damp), False, out)
+             kr, masses[0, 0], masses[0, 1], np.array(damp), False, out)
     return out
 
 
+def test_effective_masses_of_a_wall_contact_are_those_of_an_infinite_partner():
+    """A wall contact (j < 0) gets the m* and I_r of a partner with m_j = I_j = inf, to the bit."""
+    from fricstab.engine.passes import effective_masses
+    wall, pair = np.zeros((1, 8))[:, 6:], np.zeros((1, 8))[:, 6:]   # as in fcon[:, 6:8]
+    effective_masses(np.array([0]), np.array([-1]), np.array([0.7]), np.array([1.3]),
+                     np.array([0.4]), wall)
+    effective_masses(np.array([0]), np.array([1]), np.array([0.7, 0.7]), np.array([1.3, np.inf]),
+                     np.array([0.4, np.inf]), pair)
+    assert np.array_equal(wall, pair) and wall[0, 0] == 1.0 / (1.0 / 1.3)
+
+
 def test_damping_coefficients_follow_a4_a12_a20_a22():
-    """The engine's dashpots (fricstab.engine.passes._damping) of Lee & Hurley.
+    """The engine's dashpots (fricstab.engine.passes._damping, effective_masses) of Lee & Hurley.
 
     gamma_n = 2 alpha_n sqrt(kn m*) (A4), gamma_t = 2 alpha_t sqrt(kt m*) (A12),
     C_r = 2 eta_r sqrt(I_r kr) (A20, A21) with 1/m* = 1/m_i + 1/m_j (A5) and
