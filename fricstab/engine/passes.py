@@ -44,7 +44,8 @@ from fricstab.generated.dispatch import (WIDTH, pair_advance, pair_eval, pair_pr
                                          wall_advance, wall_eval, wall_project, wall_rate)
 
 __all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_force",
-           "effective_masses", "eval_pass", "gather_range", "increment_pass", "layout", "project_pass"]
+           "effective_masses", "eval_pass", "gather_range", "increment_pass", "layout",
+           "project_pass"]
 
 
 
@@ -413,7 +414,7 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp
                     vj[1] = d * v[i, 1]
                     vj[2] = v[i, 2]
                     # the wall as a still partner below, in the wall's frame (infinite
-                    # mass and inertia; its radius only enters multiplied by them)
+                    # mass and inertia: the contact's m* and I_r, effective_masses)
                     rw = radius[i] + abs(y)
                     _damping(0.0, rw, np.sqrt(rw * rw), radius[i], radius[i], rscale[i],
                              1.0, vj, zero3, aux[0], aux[1], aux[2], fcon[c, 6], fcon[c, 7],
