@@ -91,6 +91,17 @@ def _packing():
     return out + [state.q, state.contacts.hist, it, res]
 
 
+def _frictionless():
+    """The frictionless ``hertz`` law: 2 dof a particle (the passes' variable-dof branch)."""
+    from fricstab.scenes.packing_friction import material, packing_system
+    p = _jammed()
+    system = packing_system(p, material("hertz"), skin=0.1)
+    state = system.state(p.pos)
+    state.v[:] = 0.03 * np.random.default_rng(2).standard_normal((p.n, 3))
+    rec = run(system, state, 0.02, 200, Controls(drag=0.1), record_every=100)
+    return state.q, state.v, state.contacts.out, rec.q, rec.forces, state.rebuilds
+
+
 @functools.lru_cache(maxsize=1)
 def _prepared_cell():
     """A compressed 40-disk plane-shear cell at the start of shear (prepared once)."""
@@ -109,7 +120,8 @@ def _shear():
     return st.q, st.v, st.contacts.hist, sim.forces, sim.meas, st.rebuilds
 
 
-@pytest.mark.parametrize("scene", [_chain, _packing, _shear], ids=["chain", "packing", "shear"])
+@pytest.mark.parametrize("scene", [_chain, _packing, _frictionless, _shear],
+                         ids=["chain", "packing", "frictionless", "shear"])
 def test_one_and_two_threads_agree_to_the_bit(threaded, scene):
     _equal(threaded(1, scene), threaded(2, scene))
 

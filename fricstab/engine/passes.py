@@ -457,17 +457,35 @@ def gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
     (side 0: a is i, 1: a is j) in increasing ``c``: exactly the order in which
     one loop over the contacts scattering into i and j would add them, so the
     sums are the same to the bit however the particles are shared out.
+    Compiled with the dof as the constant 3 (the laws with a rotation) and
+    as a variable.
     """
+    if dof == 3:
+        _gather_body(lo, hi, ext, fcon, live, pstart, pidx, 3, f)
+    else:
+        _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
+
+
+@hot_inline_jit
+def _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
+    # each particle's sums in registers (fcon may alias f for all the compiler
+    # knows, so a sum in f[a] would go through memory at every addition)
     for a in range(lo, hi):
-        for b in range(3):
-            f[a, b] = ext[a, b]
+        a0 = ext[a, 0]
+        a1 = ext[a, 1]
+        a2 = ext[a, 2]
         for e in range(pstart[a], pstart[a + 1]):
             code = pidx[e]
-            c = code >> 1
+            c = np.uint64(code >> 1)
             if live[c]:
-                off = (code & 1) * dof
-                for b in range(dof):
-                    f[a, b] += fcon[c, off + b]
+                off = np.uint64((code & 1) * dof)
+                a0 += fcon[c, off]
+                a1 += fcon[c, off + 1]
+                if dof == 3:
+                    a2 += fcon[c, off + 2]
+        f[a, 0] = a0
+        f[a, 1] = a1
+        f[a, 2] = a2
 
 
 @hot_jit
