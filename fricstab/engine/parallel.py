@@ -6,7 +6,7 @@ One step of the contacts is two loops, each shared among the threads by a
 1. over the contacts (:func:`fricstab.engine.passes.advance_range`): each
    contact advances its own history and writes its forces on i and j into its
    own row of ``fcon``; no two contacts write the same memory;
-2. over the particles (:func:`fricstab.engine.passes.gather_range`): each
+2. over the particles (:func:`gather_range`): each
    particle sums the applied force and then its contacts' rows in increasing
    contact order, from a list built once per contact list (:func:`workspace`).
 
@@ -38,13 +38,13 @@ import numba
 import numpy as np
 from numba import prange
 
-from fricstab._numba import hot_jit, threads_jit
+from fricstab._numba import hot_inline_jit, hot_jit, threads_jit
 from fricstab.engine import passes
 from fricstab.engine.integrate import kick_range
 from fricstab.errors import ParameterError
 
-__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "own_load",
-           "set_threads", "workspace"]
+__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "gather_range",
+           "layout", "own_load", "set_threads", "workspace"]
 
 #: Particles below which the dynamics pass stays on one thread (measured:
 #: docs/concepts/performance.md).
@@ -129,13 +129,66 @@ def workspace(contacts, system, n_chunks):
     (:func:`~fricstab.engine.passes.driven_force` reads only their rows).
     """
     k = contacts.n
-    pstart, pidx = passes.layout(contacts.i, contacts.j, system.n)
+    pstart, pidx = layout(contacts.i, contacts.j, system.n)
     fcon = np.zeros((k, 8))
     passes.effective_masses(contacts.i, contacts.j, system.radius, system.damping_mass,
                             system.damping_inertia, fcon[:, 6:])
     return (fcon, np.zeros(k, np.int8), pstart, pidx,
             passes.driven_contacts(contacts.i, contacts.j, system.family),
             np.zeros((n_chunks, 8 + passes.LANES, 9)), np.full(n_chunks, -1, np.int64))
+
+
+@hot_jit
+def gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
+    """Forces on particles ``lo .. hi - 1``: ``ext``, then their contacts in contact order.
+
+    ``pidx[pstart[a]:pstart[a + 1]]`` lists particle a's contacts as ``2 c + side``
+    (side 0: a is i, 1: a is j) in increasing ``c``: exactly the order in which
+    one loop over the contacts scattering into i and j would add them, so the
+    sums are the same to the bit however the particles are shared out.
+    Compiled with the dof as the constant 3 (the laws with a rotation) and
+    as a variable.
+    """
+    if dof == 3:
+        _gather_body(lo, hi, ext, fcon, live, pstart, pidx, 3, f)
+    else:
+        _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
+
+
+@hot_inline_jit
+def _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
+    # each particle's sums in registers (fcon may alias f for all the compiler
+    # knows, so a sum in f[a] would go through memory at every addition)
+    for a in range(lo, hi):
+        a0 = ext[a, 0]
+        a1 = ext[a, 1]
+        a2 = ext[a, 2]
+        for e in range(pstart[a], pstart[a + 1]):
+            code = pidx[e]
+            c = np.uint64(code >> 1)
+            if live[c]:
+                off = np.uint64((code & 1) * dof)
+                a0 += fcon[c, off]
+                a1 += fcon[c, off + 1]
+                if dof == 3:
+                    a2 += fcon[c, off + 2]
+        f[a, 0] = a0
+        f[a, 1] = a1
+        f[a, 2] = a2
+
+
+
+
+def layout(ci, cj, n):
+    """``(pstart, pidx)`` of :func:`gather_range`: each particle's contacts in contact order."""
+    c = np.arange(len(ci), dtype=np.int64)
+    pair = cj >= 0
+    code = np.concatenate([2 * c, 2 * c[pair] + 1])
+    owner = np.concatenate([ci, cj[pair]])
+    order = np.argsort(owner * (2 * len(ci) + 2) + code, kind="stable")
+    pstart = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(owner, minlength=n), out=pstart[1:])
+    return pstart, np.ascontiguousarray(code[order])
 
 
 @hot_jit
@@ -170,7 +223,7 @@ def _threads(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm,
     for t in prange(n_chunks):
         lo = t * n // n_chunks
         hi = (t + 1) * n // n_chunks
-        passes.gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
+        gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
         if kick:
             work[t, 6, 1] = kick_range(lo, hi, f, v, ginv, family, dof, half, implicit)
 

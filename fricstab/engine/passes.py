@@ -27,10 +27,8 @@ Passes
 :func:`advance_range`
     One dynamics step of a range of contacts at the new configuration,
     geometry computed once: ``h += A dq``, projection, forces, contact
-    damping, each contact's forces into its own row of ``fcon``.
-:func:`gather_range`
-    The forces on a range of particles from ``fcon``, in contact order
-    (:mod:`fricstab.engine.parallel` runs both on threads).
+    damping, each contact's forces into its own row of ``fcon``
+    (:mod:`fricstab.engine.parallel` runs it on threads and gathers the rows).
 :func:`contact_pass`
     Each contact's own forces (for stresses, force networks, exports).
 """
@@ -44,8 +42,7 @@ from fricstab.generated.dispatch import (WIDTH, pair_advance, pair_eval, pair_pr
                                          wall_advance, wall_eval, wall_project, wall_rate)
 
 __all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_force",
-           "effective_masses", "eval_pass", "gather_range", "increment_pass", "layout",
-           "project_pass"]
+           "effective_masses", "eval_pass", "increment_pass", "project_pass"]
 
 
 
@@ -245,15 +242,17 @@ def advance_range(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp
     :func:`effective_masses`).  Each contact writes only its own rows: its generalized
     forces into ``fcon[c]`` (on i in ``0 .. dof - 1``, on j in ``dof .. 2 dof - 1``;
     a wall contact's on i in global axes), ``live[c] = 0`` for a pair apart by
-    far (no force: :func:`gather_range` skips it) and 1 otherwise; ``cout[c]``
-    = force on i (x, y) and the elastic normal force, written only ``if
-    want_out`` (a caller reads them after its last step).  So contacts may be
+    far (no force: :func:`fricstab.engine.parallel.gather_range` skips it)
+    and 1 otherwise; ``cout[c]`` = force on i (x, y) and the elastic normal
+    force, written only ``if want_out`` (a caller reads them after its last
+    step).  So contacts may be
     advanced in any order or on several threads with the same result.
 
     With ``scatter`` (one thread, all contacts) each contact also adds its
     forces to ``f[i]`` and ``f[j]`` (which hold the applied forces), in
-    contact order: the same sums, to the bit, as :func:`gather_range` forms,
-    without a second pass.
+    contact order: the same sums, to the bit, as
+    :func:`fricstab.engine.parallel.gather_range` forms, without a second
+    pass.
 
     The loop is compiled once per law, with the law id and the dof as
     constants (the law's kernel alone in its loop, the dispatch folded away,
@@ -450,45 +449,6 @@ def _advance_loop(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp
 
 
 @hot_jit
-def gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
-    """Forces on particles ``lo .. hi - 1``: ``ext``, then their contacts in contact order.
-
-    ``pidx[pstart[a]:pstart[a + 1]]`` lists particle a's contacts as ``2 c + side``
-    (side 0: a is i, 1: a is j) in increasing ``c``: exactly the order in which
-    one loop over the contacts scattering into i and j would add them, so the
-    sums are the same to the bit however the particles are shared out.
-    Compiled with the dof as the constant 3 (the laws with a rotation) and
-    as a variable.
-    """
-    if dof == 3:
-        _gather_body(lo, hi, ext, fcon, live, pstart, pidx, 3, f)
-    else:
-        _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
-
-
-@hot_inline_jit
-def _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
-    # each particle's sums in registers (fcon may alias f for all the compiler
-    # knows, so a sum in f[a] would go through memory at every addition)
-    for a in range(lo, hi):
-        a0 = ext[a, 0]
-        a1 = ext[a, 1]
-        a2 = ext[a, 2]
-        for e in range(pstart[a], pstart[a + 1]):
-            code = pidx[e]
-            c = np.uint64(code >> 1)
-            if live[c]:
-                off = np.uint64((code & 1) * dof)
-                a0 += fcon[c, off]
-                a1 += fcon[c, off + 1]
-                if dof == 3:
-                    a2 += fcon[c, off + 2]
-        f[a, 0] = a0
-        f[a, 1] = a1
-        f[a, 2] = a2
-
-
-@hot_jit
 def driven_force(drv, ci, cj, live, fcon, family, meas):
     """``meas[0:2]``: the pair-contact force on the driven particles (family 2), in contact order.
 
@@ -517,18 +477,6 @@ def driven_contacts(ci, cj, family):
     touch = family[ci] == 2
     touch[pair] |= family[cj[pair]] == 2
     return np.flatnonzero(touch).astype(np.int64)
-
-
-def layout(ci, cj, n):
-    """``(pstart, pidx)`` of :func:`gather_range`: each particle's contacts in contact order."""
-    c = np.arange(len(ci), dtype=np.int64)
-    pair = cj >= 0
-    code = np.concatenate([2 * c, 2 * c[pair] + 1])
-    owner = np.concatenate([ci, cj[pair]])
-    order = np.argsort(owner * (2 * len(ci) + 2) + code, kind="stable")
-    pstart = np.zeros(n + 1, np.int64)
-    np.cumsum(np.bincount(owner, minlength=n), out=pstart[1:])
-    return pstart, np.ascontiguousarray(code[order])
 
 
 @hot_jit
