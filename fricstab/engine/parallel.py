@@ -177,8 +177,6 @@ def _gather_body(lo, hi, ext, fcon, live, pstart, pidx, dof, f):
         f[a, 2] = a2
 
 
-
-
 def layout(ci, cj, n):
     """``(pstart, pidx)`` of :func:`gather_range`: each particle's contacts in contact order."""
     c = np.arange(len(ci), dtype=np.int64)

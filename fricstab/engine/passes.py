@@ -45,7 +45,6 @@ __all__ = ["LANES", "advance_range", "contact_pass", "driven_contacts", "driven_
            "effective_masses", "eval_pass", "increment_pass", "project_pass"]
 
 
-
 #: A listed pair with ``r^2 > (R_i + R_j)^2 (1 + APART)`` is apart by far more than
 #: the round-off of r: the passes skip its kernel (a neighbour list with a skin
 #: holds many such pairs).  Closer pairs go to the kernel, whose accurate overlap
