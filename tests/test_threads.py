@@ -120,10 +120,71 @@ def _shear():
     return st.q, st.v, st.contacts.hist, sim.forces, sim.meas, st.rebuilds
 
 
-@pytest.mark.parametrize("scene", [_chain, _packing, _frictionless, _shear],
-                         ids=["chain", "packing", "frictionless", "shear"])
+def _damped():
+    """Damped to a force tolerance: the threads' residual and the step it stops at."""
+    from fricstab.scenes.packing_friction import material, packing_system
+    p = _jammed()
+    system = packing_system(p, material("ishima", kt=1.0), skin=0.1)
+    state = system.state(p.pos)
+    state.v[:] = 0.01 * np.random.default_rng(3).standard_normal((p.n, 3))
+    rec = run(system, state, 0.05, 20_000, Controls(drag=0.5), tol=1e-6, check_every=7)
+    assert rec.converged
+    return state.q, state.v, rec.forces, [rec.steps, rec.residual]
+
+
+@pytest.mark.parametrize("scene", [_chain, _packing, _frictionless, _shear, _damped],
+                         ids=["chain", "packing", "frictionless", "shear", "damped"])
 def test_one_and_two_threads_agree_to_the_bit(threaded, scene):
     _equal(threaded(1, scene), threaded(2, scene))
+
+
+def test_the_loop_with_a_parallel_region_per_pass_agrees_to_the_bit(threaded, monkeypatch):
+    """Where the threads cannot share one region (parallel.team_ready false: numba's TBB
+    layer), the loop meets them in a region per pass: the same bits."""
+    one = threaded(1, _packing)
+    monkeypatch.setattr(parallel, "team_ready", lambda n: False)
+    _equal(one, threaded(2, _packing))
+
+
+def test_threads_that_cannot_all_run_at_once_give_the_same_bits(threaded, monkeypatch):
+    """A team of 3 on numba's 2 threads: one thread would run two members one after the
+    other, and they would wait for each other forever.  The gate closes (every member
+    returns before it changed anything), the run warns once and finishes with a region
+    per pass: the same bits as 1 thread, and no later run tries a team again."""
+    one = threaded(1, _packing)
+    monkeypatch.setattr(parallel, "_team_failed", False)
+    monkeypatch.setattr(parallel, "team_ready", lambda n: not parallel._team_failed)
+    monkeypatch.setattr(parallel, "chunks", lambda n: 3)
+    with pytest.warns(RuntimeWarning, match="did not run at once"):
+        three = threaded(2, _packing)
+    _equal(one, three)
+    assert parallel._team_failed
+
+
+@pytest.mark.parametrize("quantity", ["force", "position"])
+def test_a_non_finite_value_on_a_thread_names_the_same_step_and_particle(threaded, quantity):
+    """A NaN applied force (found by the second half kick: BAD_FORCE) or velocity (by the
+    drift: BAD_STATE) on one particle: the same NumericalError at 1 and 2 threads (the
+    step, the particle)."""
+    from fricstab.scenes.packing_friction import material, packing_system
+    p = _jammed()
+
+    def failed():
+        system = packing_system(p, material("ishima", kt=1.0), skin=0.1)
+        state = system.state(p.pos)
+        state.v[:] = 0.01 * np.random.default_rng(4).standard_normal((p.n, 3))
+        rec = run(system, state, 0.02, 30)
+        if quantity == "force":   # the saved (finite) forces: the drift of step 30 is fine
+            system.external[41, 0] = np.nan
+        else:
+            state.v[41, 1] = np.nan
+        with pytest.raises(NumericalError) as info:
+            run(system, state, 0.02, 60, step0=30, forces=rec.forces)
+        err = info.value
+        return str(err), err.step, err.item, err.quantity
+    one, two = threaded(1, failed), threaded(2, failed)
+    assert one == two and one[2] == 41
+    assert one[1:] == ((31, 41, "force") if quantity == "force" else (31, 41, "position"))
 
 
 def test_packing_dynamics_at_two_threads_holds_the_pinned_regression(threaded):

@@ -48,7 +48,7 @@ class FireParameters:
 @hot_jit
 def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, family,
           ext, lx, ly, shift, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, meas,
-          par, sv, it0, stop, max_iter, tol, fcon, live, pstart, pidx, drv, work, errs):
+          par, sv, it0, stop, max_iter, tol, fcon, live, pstart, pidx, drv, work, share):
     """FIRE iterations ``it0 .. stop`` (of ``max_iter``); ``sv = [dt, chi, n_pos]``
     carried between calls, so iterations split over calls are those of one call.
 
@@ -71,7 +71,7 @@ def _fire(law, p, pw, walls, q, v, f, new, dq, gmass, radius, rscale, family,
     for it in range(it0, stop + 1):
         bad, _ = parallel.advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, box, damp,
                                        ci, cj, cm, ck, hist, flag, cout, ext, family, new, dof,
-                                       meas, no, no, fcon, live, pstart, pidx, drv, work, errs,
+                                       meas, no, no, fcon, live, pstart, pidx, drv, work, share,
                                        gmass, 0.0, 1.0, no)   # no kick: FIRE's own (A6)
         if bad >= 0:
             sv[0], sv[1], sv[2] = dt, chi, n_pos

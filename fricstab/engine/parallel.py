@@ -1,7 +1,7 @@
 """The dynamics pass on threads, the same to the bit at every thread count.
 
-One step of the contacts is two loops, each shared among the threads by a
-``prange`` over chunks (:func:`advance_pass`):
+One step of the contacts is two loops, each shared among the threads
+(:func:`contacts_share`, :func:`gather_share`):
 
 1. over the contacts (:func:`fricstab.engine.passes.advance_range`): each
    contact advances its own history and writes its forces on i and j into its
@@ -15,42 +15,52 @@ into i and j adds them (what the pass does on one thread, in one loop), so
 every thread count gives the serial result to the bit, and a run resumed from
 a checkpoint (``--resume``) stays bit-identical whatever ``--threads`` either
 part ran with.  The integrator's half kicks and drift are per particle and
-share the particles the same way (:mod:`fricstab.engine.verlet`): four
-parallel regions a step.
+share the particles the same way.  Each loop is cut into parts that the
+threads take from each other's shares when they run out of their own
+(:mod:`fricstab.engine.team`): which thread does a part changes no bit.
+
+:func:`fricstab.engine.verlet.run` runs all the steps of a call in one
+parallel region whose threads meet at a barrier after each loop, three a
+step (:func:`team_ready`); FIRE, and the velocity Verlet loop where the
+threads cannot all run at once, open a region per pass (:func:`advance_pass`).
 
 The thread count is numba's (``NUMBA_NUM_THREADS``, all cores by default;
 :func:`set_threads` sets it at run time, ``fricstab --threads N``).  A system
 below :data:`PARALLEL_MIN` particles runs on one thread: there the cost of
-meeting the threads four times a step exceeds the work (the chain has 10
+meeting the threads three times a step exceeds the work (the chain has 10
 disks and ~20 contacts, ~1 us a step).  Left at its default (no
 :func:`set_threads`), a run also stays on one thread when the machine is busy
 (:func:`busy`): a core taken by another job delays every meeting (measured on
 the project's 2-core machine with other jobs running: packing N = 1,024, two
 threads 0.6e6-7e6 particle-steps/s against one thread's 8e6-9e6).  An
 explicit count is always used.  The threads spin briefly between regions
-(:mod:`fricstab._numba`).
+(:mod:`fricstab._numba`) and at the team's barriers (:mod:`fricstab.engine.team`).
 """
 
 import os
 import time
+import warnings
 
 import numba
 import numpy as np
 from numba import prange
+from numba.np.ufunc.parallel import _launch_threads
 
 from fricstab._numba import hot_inline_jit, hot_jit, threads_jit
-from fricstab.engine import passes
+from fricstab.engine import passes, team
 from fricstab.engine.integrate import kick_range
 from fricstab.errors import ParameterError
 
-__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "gather_range",
-           "layout", "own_load", "set_threads", "workspace"]
+__all__ = ["PARALLEL_MIN", "advance_pass", "available_threads", "busy", "chunks", "contacts_share",
+           "gather_range", "gather_share", "layout", "own_load", "set_threads", "team_failed",
+           "team_ready", "workspace"]
 
 #: Particles below which the dynamics pass stays on one thread (measured:
 #: docs/concepts/performance.md).
 PARALLEL_MIN = 256
 
 _explicit = False   # set_threads was called: use that count whatever the load
+_team_failed = False   # a team's threads did not all run at once (team_failed)
 
 
 def available_threads():
@@ -118,15 +128,49 @@ def chunks(n_particles):
     return threads
 
 
+def team_ready(n_threads):
+    """Whether ``n_threads`` (> 1) threads will run one parallel region together.
+
+    :func:`fricstab.engine.verlet.run` then runs all its steps in one
+    region whose threads wait for each other at barriers
+    (:mod:`fricstab.engine.team`); that needs each of them on its own
+    thread at once: numba's count equal to ``n_threads``, and the OpenMP or
+    workqueue layer (TBB may run two of them one after the other on one
+    thread; there the loop meets the threads in a parallel region per loop
+    instead, with the same result).  False for the rest of the process once
+    a team's threads did not all come (:func:`team_failed`).
+    """
+    if _team_failed or n_threads < 2 or numba.get_num_threads() != n_threads:
+        return False
+    _launch_threads()   # numba picks its threading layer here, once
+    return numba.threading_layer() in ("omp", "workqueue")
+
+
+def team_failed():
+    """A team's threads did not all run at once (:func:`fricstab.engine.team.gate`): warn
+    once, and meet the threads in a region per loop from now on."""
+    global _team_failed
+    if not _team_failed:
+        warnings.warn(f"fricstab: {numba.get_num_threads()} numba threads did not run at once "
+                      f"(threading layer {numba.threading_layer()!r}; OMP_DYNAMIC or a thread "
+                      "limit?); the engine now meets its threads in a parallel region per "
+                      "loop: the same results, a few microseconds more a step",
+                      RuntimeWarning, stacklevel=3)
+    _team_failed = True
+
+
 def workspace(contacts, system, n_chunks):
     """Scratch of :func:`advance_pass` for a contact list of ``system``: ``(fcon, live, pstart,
-    pidx, drv, work, errs)``.
+    pidx, drv, work, share)``.
 
     ``fcon`` (K, 8): columns 0-5 each contact's forces of a pass, 6-7 its
     dashpots' effective mass and inertia, constants of the list
     (:func:`~fricstab.engine.passes.effective_masses`); ``drv`` lists the
     contacts that touch a driven particle (``family`` 2), in contact order
     (:func:`~fricstab.engine.passes.driven_force` reads only their rows).
+    ``work`` (``n_chunks`` = the threads, 8 + LANES, 9): each thread's
+    scratch; ``share`` the threads' part counters, findings and barrier
+    (:func:`fricstab.engine.team.share_array`).
     """
     k = contacts.n
     pstart, pidx = layout(contacts.i, contacts.j, system.n)
@@ -135,7 +179,7 @@ def workspace(contacts, system, n_chunks):
                             system.damping_inertia, fcon[:, 6:])
     return (fcon, np.zeros(k, np.int8), pstart, pidx,
             passes.driven_contacts(contacts.i, contacts.j, system.family),
-            np.zeros((n_chunks, 8 + passes.LANES, 9)), np.full(n_chunks, -1, np.int64))
+            np.zeros((n_chunks, 8 + passes.LANES, 9)), team.share_array(n_chunks))
 
 
 @hot_jit
@@ -207,36 +251,93 @@ def _guarded(lo, hi, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci,
     return -1
 
 
+@hot_jit
+def contacts_share(w, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck,
+                   hist, flag, cout, fcon, live, dof, work, want_out, share):
+    """Thread w's parts of the contacts' loop (:func:`~fricstab.engine.team.claim`): the first
+    contact of the first part where a kernel raised, or -1."""
+    n_threads = team.threads_of(share)
+    per = share[n_threads, 7]
+    parts = per * n_threads
+    k = ci.shape[0]
+    bad = -1
+    for d in range(n_threads):   # its own share first, then what the others left
+        u = (w + d) % n_threads
+        t = team.claim(share, u, team.CONTACTS)
+        while t < per:
+            t += u * per
+            bad = team.first(bad, _guarded(t * k // parts, (t + 1) * k // parts, law, p, pw,
+                                           walls, q, dq, v, radius, rscale, box, damp, ci, cj,
+                                           cm, ck, hist, flag, cout, fcon, live, dof, work[w],
+                                           want_out))
+            t = team.claim(share, u, team.CONTACTS)
+    return bad
+
+
+@hot_jit
+def gather_share(w, ext, fcon, live, pstart, pidx, dof, f, v, ginv, family, half, implicit,
+                 kick, check, share):
+    """Thread w's parts of the particles' loop: forces (:func:`gather_range`), then the second
+    half kick if ``kick``: ``(bad, largest)``.
+
+    ``bad``: the first particle of a part whose force is not finite (only
+    with ``kick``), or -1; ``largest``: the largest ``|F|`` on a free dof of
+    its particles if ``check``, else 0.
+    """
+    n_threads = team.threads_of(share)
+    per = share[n_threads, 7]
+    parts = per * n_threads
+    n = f.shape[0]
+    bad = -1
+    largest = 0.0
+    for d in range(n_threads):
+        u = (w + d) % n_threads
+        t = team.claim(share, u, team.GATHER)
+        while t < per:
+            t += u * per
+            lo = t * n // parts
+            hi = (t + 1) * n // parts
+            gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
+            if check:
+                for i in range(lo, hi):
+                    if family[i] == 0:
+                        for b in range(dof):
+                            largest = max(largest, abs(f[i, b]))
+            if kick:
+                bad = team.first(bad, kick_range(lo, hi, f, v, ginv, family, dof, half,
+                                                 implicit))
+            t = team.claim(share, u, team.GATHER)
+    return bad, largest
+
+
 @threads_jit
 def _threads(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist, flag,
-             cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs, ginv, family,
+             cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, share, ginv, family,
              half, implicit, kick):
-    n_chunks = errs.shape[0]
-    k = ci.shape[0]
-    n = q.shape[0]
-    for t in prange(n_chunks):
-        errs[t] = _guarded(t * k // n_chunks, (t + 1) * k // n_chunks, law, p, pw, walls, q, dq,
-                           v, radius, rscale, box, damp, ci, cj, cm, ck, hist, flag, cout, fcon,
-                           live, dof, work[t], want_out)
-    for t in prange(n_chunks):
-        lo = t * n // n_chunks
-        hi = (t + 1) * n // n_chunks
-        gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
-        if kick:
-            work[t, 6, 1] = kick_range(lo, hi, f, v, ginv, family, dof, half, implicit)
+    n_threads = team.threads_of(share)
+    team.reset(share, team.CONTACTS)
+    team.reset(share, team.GATHER)
+    for w in prange(n_threads):
+        share[w, 0] = contacts_share(w, law, p, pw, walls, q, dq, v, radius, rscale, box, damp,
+                                     ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work,
+                                     want_out, share)
+    check = kick and not kick   # False, and not a literal (another specialization)
+    for w in prange(n_threads):
+        share[w, 1] = gather_share(w, ext, fcon, live, pstart, pidx, dof, f, v, ginv, family,
+                                   half, implicit, kick, check, share)[0]
 
 
 @hot_jit
 def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist,
                  flag, cout, ext, family, f, dof, meas, want_out, track_driven, fcon, live,
-                 pstart, pidx, drv, work, errs, ginv, half, implicit, kick):
+                 pstart, pidx, drv, work, share, ginv, half, implicit, kick):
     """One dynamics step of every contact at ``q``; forces into ``f`` (``ext`` first).
 
     ``box`` as in :func:`~fricstab.engine.passes.advance_range`; the scratch
-    ``fcon .. errs`` is :func:`workspace`'s.  With one chunk the contacts
+    ``fcon .. share`` is :func:`workspace`'s.  With one thread the contacts
     scatter their forces as they go (the same sums as the gather, one pass),
     on the calling thread, and a kernel's exception propagates; with
-    several, returns the first contact of the first chunk where a kernel
+    several, returns the first contact of the first part where a kernel
     raised, or -1 (the caller raises the law's error again:
     :func:`fricstab.engine.verlet.law_error`).  ``meas[0:2]``: the summed
     contact force on driven particles (family 2) if ``track_driven``.
@@ -250,20 +351,15 @@ def advance_pass(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj,
     """
     bad = -1
     bad_f = -1
-    n_chunks = errs.shape[0]
-    if n_chunks > 1:
+    n_threads = team.threads_of(share)
+    if n_threads > 1:
         _threads(law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist,
-                 flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, errs, ginv,
+                 flag, cout, ext, f, dof, work, want_out, fcon, live, pstart, pidx, share, ginv,
                  family, half, implicit, kick)
-        for t in range(n_chunks):
-            if errs[t] >= 0:
-                bad = errs[t]
-                break
-        if kick:
-            for t in range(n_chunks):
-                if work[t, 6, 1] >= 0.0:
-                    bad_f = int(work[t, 6, 1])
-                    break
+        for w in range(n_threads):
+            bad = team.first(bad, share[w, 0])
+            if kick:
+                bad_f = team.first(bad_f, share[w, 1])
     else:
         for a in range(q.shape[0]):
             for b in range(3):

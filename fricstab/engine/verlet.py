@@ -39,13 +39,13 @@ from numba import prange
 
 from fricstab import signals
 from fricstab._numba import hot_jit, threads_jit
-from fricstab.engine import parallel
+from fricstab.engine import parallel, passes, team
 from fricstab.engine.integrate import drift_range
 from fricstab.errors import NumericalError
 
 __all__ = ["Controls", "Run", "run"]
 
-OK, REBUILD, BAD_FORCE, BAD_STATE, CONVERGED, BAD_LAW = 0, 1, 2, 3, 4, 5
+OK, REBUILD, BAD_FORCE, BAD_STATE, CONVERGED, BAD_LAW, NO_TEAM = 0, 1, 2, 3, 4, 5, 6
 #: Particle-steps between returns to Python (signal checks): ~0.2-1 s of work.
 CHUNK = 1 << 21
 
@@ -105,42 +105,11 @@ class Run:
     forces: np.ndarray = None
 
 
-@threads_jit
-def _drift_threads(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine,
-                   y_ref, scale, work, errs):
-    n_chunks = errs.shape[0]
-    n = q.shape[0]
-    for t in prange(n_chunks):
-        far, bad = drift_range(t * n // n_chunks, (t + 1) * n // n_chunks, q, v, f, dq, dqh, ginv,
-                               family, ref, dof, half, nu, dt, vx_drive, vy, affine, y_ref,
-                               scale)
-        work[t, 6, 0] = far
-        errs[t] = bad
-
-
-@hot_jit
-def _drift(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine, y_ref,
-           scale, work, errs):
-    """:func:`drift_range` of every particle, on the workspace's chunks: ``(far, bad)``."""
-    n_chunks = errs.shape[0]
-    if n_chunks == 1:   # lo = n_chunks - 1 = 0: not a literal, so one compiled drift_range
-        return drift_range(n_chunks - 1, q.shape[0], q, v, f, dq, dqh, ginv, family, ref, dof,
-                           half, nu, dt, vx_drive, vy, affine, y_ref, scale)
-    _drift_threads(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine,
-                   y_ref, scale, work, errs)
-    far = 0.0
-    for t in range(n_chunks):
-        if errs[t] >= 0:
-            return far, errs[t]
-        far = max(far, work[t, 6, 0])
-    return far, -1
-
-
 @hot_jit
 def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx, ly, shiftv, ci,
           cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas, dt, step0, n_steps, mid,
           record_every, frame0, rec_q, rec_v, rec_h, tol, check_every, dqh, fcon, live, pstart,
-          pidx, drv, work, errs):
+          pidx, drv, work, share):
     """Steps ``step0 .. n_steps - 1``; returns (step, status, item, frame, residual).
 
     ``shiftv = [shift, ref_shift, time]`` is updated in place.  ``mid``: the
@@ -189,8 +158,9 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx,
             scale = 1.0
             if affine and n_drv and y_top - y_ref != 0.0:
                 scale = 1.0 + vy * dt / (y_top - y_ref)
-            far, bad = _drift(q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive,
-                              vy, affine, y_ref, scale, work, errs)
+            # lo = n - n: 0, and not a literal constant (which would compile another drift_range)
+            far, bad = drift_range(n - n, n, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu,
+                                   dt, vx_drive, vy, affine, y_ref, scale)
             if bad >= 0:
                 return step, BAD_STATE, bad, frame, residual
             y_top += vy * dt
@@ -207,7 +177,7 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx,
         bad, bad_f = parallel.advance_pass(law, p, pw, walls, q, hq, v, radius, rscale, box,
                                            damp, ci, cj, cm, ck, hist, flag, cout, ext, family,
                                            f, dof, meas, step == n_steps - 1, n_drv > 0, fcon,
-                                           live, pstart, pidx, drv, work, errs, ginv, half,
+                                           live, pstart, pidx, drv, work, share, ginv, half,
                                            implicit, n_drv >= 0)
         if bad >= 0:
             return step + 1, BAD_LAW, bad, frame, residual
@@ -222,6 +192,186 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx,
             if residual < tol:
                 return step + 1, CONVERGED, -1, frame, residual
     return n_steps, OK, -1, frame, residual
+
+
+@hot_jit
+def _drift_share(w, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_drive, vy, affine,
+                 y_ref, scale, share):
+    """Thread w's parts of :func:`drift_range` (:func:`fricstab.engine.team.claim`):
+    ``(far, bad)`` over its parts."""
+    n_threads = team.threads_of(share)
+    per = share[n_threads, 7]
+    parts = per * n_threads
+    n = q.shape[0]
+    far = 0.0
+    bad = -1
+    for d in range(n_threads):   # its own share first, then what the others left
+        u = (w + d) % n_threads
+        t = team.claim(share, u, team.DRIFT)
+        while t < per:
+            t += u * per
+            far_t, bad_t = drift_range(t * n // parts, (t + 1) * n // parts, q, v, f, dq, dqh,
+                                       ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
+                                       affine, y_ref, scale)
+            far = max(far, far_t)
+            bad = team.first(bad, bad_t)
+            t = team.claim(share, u, team.DRIFT)
+    return far, bad
+
+
+@hot_jit
+def _member(w, law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx, ly, shiftv,
+            ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas, dt, step0,
+            n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every, dqh,
+            fcon, live, pstart, pidx, drv, work, share):
+    """Thread w's part of :func:`_loop`'s steps, run by every thread of the team at once.
+
+    The same step as :func:`_loop`: each loop over the contacts or the
+    particles shared out in parts (:mod:`fricstab.engine.team`), the
+    threads meeting at a barrier after each; every decision (rebuild, error,
+    convergence) is taken by every thread from what all of them wrote before
+    the barrier, so all leave at the same step.  Thread 0 alone writes the
+    shared scalars (``meas``, ``shiftv``, the records) and the result:
+    ``share[0, 3:7]`` = (step, status, item, frame), ``work[0, 6, 5]`` the
+    residual.
+    """
+    n_threads = team.threads_of(share)
+    lead = w == 0
+    n = q.shape[0]
+    nu, vx_drive, vy_drive = ctrl[0], ctrl[1], ctrl[2]
+    gain, target, vmax = ctrl[3], ctrl[4], ctrl[5]
+    affine, y_ref, rate = ctrl[6] > 0.0, ctrl[7], ctrl[8]
+    half = 0.5 * dt
+    implicit = 1.0 / (1.0 + half * nu)
+    frame = frame0
+    residual = np.inf
+    y_top = 0.0
+    n_drv = 0
+    for i in range(n):
+        if family[i] == 2:
+            y_top += q[i, 1]
+            n_drv += 1
+    if n_drv:
+        y_top /= n_drv
+    shift, ref_shift, clock = shiftv[0], shiftv[1], shiftv[2]
+    lim = skin * skin
+    box = work[w, 7, :5]   # this thread's (lx, ly, shift, dshift, shift rate)
+    box[0] = lx
+    box[1] = ly
+    box[3] = rate * dt
+    box[4] = rate
+    hq = dqh if affine else dq
+    stop, status, item = n_steps, OK, -1
+    if not team.gate(share):   # everyone has read q before anyone moves it
+        return   # a thread never came: nothing changed (_team says NO_TEAM)
+    for step in range(step0, n_steps):
+        if not (mid and step == step0):
+            if record_every > 0 and step % record_every == 0 and frame < rec_q.shape[0]:
+                if lead:
+                    for i in range(n):
+                        for b in range(3):
+                            rec_q[frame, i, b] = q[i, b]
+                            rec_v[frame, i, b] = v[i, b]
+                    if rec_h.shape[0]:
+                        for c in range(hist.shape[0]):
+                            for b in range(hist.shape[1]):
+                                rec_h[frame, c, b] = hist[c, b]
+                frame += 1
+                team.barrier(share)   # recorded before anyone moves on
+            vy = vy_drive
+            if gain > 0.0:
+                vy = -gain * (target - meas[1])
+                vy = min(max(vy, -vmax), vmax)
+            scale = 1.0
+            if affine and n_drv and y_top - y_ref != 0.0:
+                scale = 1.0 + vy * dt / (y_top - y_ref)
+            far, bad = _drift_share(w, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt,
+                                    vx_drive, vy, affine, y_ref, scale, share)
+            work[w, 6, 0] = far
+            share[w, 2] = bad
+            team.barrier(share)
+            for u in range(n_threads):
+                far = max(far, work[u, 6, 0])
+                bad = team.first(bad, share[u, 2])
+            if lead:
+                team.reset(share, team.DRIFT)
+                meas[3] = vy
+            if bad >= 0:
+                stop, status, item = step, BAD_STATE, bad
+                break
+            y_top += vy * dt
+            if lead:
+                meas[2] += vx_drive * dt
+            shift += rate * dt
+            clock += dt
+            gap = 2.0 * np.sqrt(far) + abs(shift - ref_shift)
+            if skin > 0.0 and gap * gap > lim:
+                stop, status = step, REBUILD
+                break
+        box[2] = shift
+        bad = parallel.contacts_share(w, law, p, pw, walls, q, hq, v, radius, rscale, box, damp,
+                                      ci, cj, cm, ck, hist, flag, cout, fcon, live, dof, work,
+                                      step == n_steps - 1, share)
+        share[w, 0] = bad
+        team.barrier(share)
+        for u in range(n_threads):
+            bad = team.first(bad, share[u, 0])
+        if bad >= 0:
+            stop, status, item = step + 1, BAD_LAW, bad
+            break
+        if lead:
+            team.reset(share, team.CONTACTS)
+            if n_drv > 0:
+                passes.driven_force(drv, ci, cj, live, fcon, family, meas)
+            else:
+                meas[0] = 0.0
+                meas[1] = 0.0
+        check = tol > 0.0 and step % check_every == 0
+        bad_f, largest = parallel.gather_share(w, ext, fcon, live, pstart, pidx, dof, f, v, ginv,
+                                               family, half, implicit, n_drv >= 0, check, share)
+        share[w, 1] = bad_f
+        work[w, 6, 2] = largest
+        team.barrier(share)
+        for u in range(n_threads):
+            bad_f = team.first(bad_f, share[u, 1])
+            largest = max(largest, work[u, 6, 2])
+        if lead:
+            team.reset(share, team.GATHER)
+        if bad_f >= 0:
+            stop, status, item = step + 1, BAD_FORCE, bad_f
+            break
+        if check:
+            residual = largest
+            if residual < tol:
+                stop, status = step + 1, CONVERGED
+                break
+    if lead:
+        shiftv[0], shiftv[2] = shift, clock
+        share[0, 3], share[0, 4], share[0, 5], share[0, 6] = stop, status, item, frame
+        work[0, 6, 5] = residual
+
+
+@threads_jit
+def _team(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx, ly, shiftv, ci,
+          cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas, dt, step0, n_steps, mid,
+          record_every, frame0, rec_q, rec_v, rec_h, tol, check_every, dqh, fcon, live, pstart,
+          pidx, drv, work, share):
+    """:func:`_loop` on the workspace's threads, in one parallel region (:func:`_member`).
+
+    Every thread of the workspace must run at once (they wait for each other:
+    :func:`fricstab.engine.parallel.team_ready`).
+    """
+    for loop in (team.CONTACTS, team.GATHER, team.DRIFT):
+        team.reset(share, loop)
+    team.open_gate(share)
+    for w in prange(team.threads_of(share)):
+        _member(w, law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx, ly,
+                shiftv, ci, cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas, dt,
+                step0, n_steps, mid, record_every, frame0, rec_q, rec_v, rec_h, tol, check_every,
+                dqh, fcon, live, pstart, pidx, drv, work, share)
+    if team.gate_closed(share):
+        return step0, NO_TEAM, -1, frame0, np.inf
+    return share[0, 3], share[0, 4], share[0, 5], share[0, 6], work[0, 6, 5]
 
 
 def _culprit(system, state, particle):
@@ -333,13 +483,17 @@ def run(system, state, dt, n_steps, controls=Controls(), *, record_every=0, reco
             space = parallel.workspace(c, system, n_chunks)
         if record_hist and c.n != rec_h.shape[1]:
             raise ValueError("record_hist needs a contact list that never changes")
-        step, status, item, frame, residual = _loop(
+        loop = _team if parallel.team_ready(n_chunks) else _loop
+        step, status, item, frame, residual = loop(
             system.law_id, system._p, system._pw, system.walls, state.q, state.v, f, dq,
             system.ginv, system.radius, system.rscale, system.family, system.external,
             float(system.lx), float(system.ly), shiftv, c.i, c.j, c.m, c.k, c.hist, c.flag,
             c.out, state.ref, float(system.skin), system.dof, system.damping, ctrl, meas,
             float(dt), step, end, mid, record_every, frame, rec_q, rec_v, rec_h, float(tol),
             check_every, dqh, *space)
+        if status == NO_TEAM:   # nothing changed: the same steps, a region per loop
+            parallel.team_failed()
+            continue
         state.shift, state.ref_shift, state.time = shiftv
         mid = False
         if status == REBUILD:
