@@ -45,6 +45,7 @@ BENCHES = {
     "kernels": "bench_kernels.py",
     "eigen": "bench_eigen.py",
     "knobs": "bench_knobs.py",
+    "meetings": "bench_meetings.py",
 }
 
 # knob -> where its trade table is (file under validation/benchmarks/, section)
@@ -68,6 +69,7 @@ KNOBS = [
     ("code: fricstab DEM against LAMMPS", "lammps.md",
      "forces first: lammps_forces.md, lammps_forces_scenes.md"),
     ("threads: 1 against 2 per scene", "engine.md", ""),
+    ("threads: a meeting as a parallel region against a barrier", "meetings.md", ""),
     ("Lee & Hurley width solve and logs: ns per contact", "lee_hurley.md", ""),
     ("slip spectra: soft end (k softest) against dense", "slip_spectra.md", ""),
 ]
