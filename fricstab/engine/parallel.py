@@ -256,21 +256,15 @@ def contacts_share(w, law, p, pw, walls, q, dq, v, radius, rscale, box, damp, ci
                    hist, flag, cout, fcon, live, dof, work, want_out, share):
     """Thread w's parts of the contacts' loop (:func:`~fricstab.engine.team.claim`): the first
     contact of the first part where a kernel raised, or -1."""
-    n_threads = team.threads_of(share)
-    per = share[n_threads, 7]
-    parts = per * n_threads
+    parts = team.parts_of(share)
     k = ci.shape[0]
     bad = -1
-    for d in range(n_threads):   # its own share first, then what the others left
-        u = (w + d) % n_threads
-        t = team.claim(share, u, team.CONTACTS)
-        while t < per:
-            t += u * per
-            bad = team.first(bad, _guarded(t * k // parts, (t + 1) * k // parts, law, p, pw,
-                                           walls, q, dq, v, radius, rscale, box, damp, ci, cj,
-                                           cm, ck, hist, flag, cout, fcon, live, dof, work[w],
-                                           want_out))
-            t = team.claim(share, u, team.CONTACTS)
+    t, d = team.next_part(share, w, team.CONTACTS, 0)
+    while t >= 0:
+        bad = team.first(bad, _guarded(t * k // parts, (t + 1) * k // parts, law, p, pw, walls,
+                                       q, dq, v, radius, rscale, box, damp, ci, cj, cm, ck, hist,
+                                       flag, cout, fcon, live, dof, work[w], want_out))
+        t, d = team.next_part(share, w, team.CONTACTS, d)
     return bad
 
 
@@ -284,29 +278,23 @@ def gather_share(w, ext, fcon, live, pstart, pidx, dof, f, v, ginv, family, half
     with ``kick``), or -1; ``largest``: the largest ``|F|`` on a free dof of
     its particles if ``check``, else 0.
     """
-    n_threads = team.threads_of(share)
-    per = share[n_threads, 7]
-    parts = per * n_threads
+    parts = team.parts_of(share)
     n = f.shape[0]
     bad = -1
     largest = 0.0
-    for d in range(n_threads):
-        u = (w + d) % n_threads
-        t = team.claim(share, u, team.GATHER)
-        while t < per:
-            t += u * per
-            lo = t * n // parts
-            hi = (t + 1) * n // parts
-            gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
-            if check:
-                for i in range(lo, hi):
-                    if family[i] == 0:
-                        for b in range(dof):
-                            largest = max(largest, abs(f[i, b]))
-            if kick:
-                bad = team.first(bad, kick_range(lo, hi, f, v, ginv, family, dof, half,
-                                                 implicit))
-            t = team.claim(share, u, team.GATHER)
+    t, d = team.next_part(share, w, team.GATHER, 0)
+    while t >= 0:
+        lo = t * n // parts
+        hi = (t + 1) * n // parts
+        gather_range(lo, hi, ext, fcon, live, pstart, pidx, dof, f)
+        if check:
+            for i in range(lo, hi):
+                if family[i] == 0:
+                    for b in range(dof):
+                        largest = max(largest, abs(f[i, b]))
+        if kick:
+            bad = team.first(bad, kick_range(lo, hi, f, v, ginv, family, dof, half, implicit))
+        t, d = team.next_part(share, w, team.GATHER, d)
     return bad, largest
 
 

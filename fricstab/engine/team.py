@@ -48,7 +48,8 @@ from numba.extending import intrinsic
 from fricstab._numba import hot_jit
 
 __all__ = ["CONTACTS", "DRIFT", "GATE_YIELDS", "GATHER", "PARTS", "SPINS", "barrier", "claim",
-           "first", "gate", "gate_closed", "open_gate", "reset", "share_array", "threads_of"]
+           "first", "gate", "gate_closed", "next_part", "open_gate", "parts_of", "reset",
+           "share_array", "threads_of"]
 
 #: Parts per thread of each loop (measured: docs/concepts/performance.md).
 PARTS = 4
@@ -145,6 +146,33 @@ def claim(share, queue, loop):
     """The next part of thread ``queue``'s share of ``loop``: 0 .. parts - 1, or more when none
     is left (module docstring)."""
     return _fetch_add(share[threads_of(share) + queue], loop)
+
+
+@hot_jit
+def parts_of(share):
+    """Parts of a loop in all: :data:`PARTS` (as ``share`` was made) per thread."""
+    n_threads = threads_of(share)
+    return share[n_threads, 7] * n_threads
+
+
+@hot_jit
+def next_part(share, w, loop, d):
+    """Thread w's next part of ``loop``: ``(part, d)``, part -1 when none is left.
+
+    Thread w takes the parts of its own share first (``d = 0``), then of the
+    others' in turn (``d`` counts the shares it has emptied; pass back what it
+    returned).  Part t of all :func:`parts_of` covers items ``t n // parts``
+    to ``(t + 1) n // parts``.
+    """
+    n_threads = threads_of(share)
+    per = share[n_threads, 7]
+    while d < n_threads:
+        u = (w + d) % n_threads
+        t = claim(share, u, loop)
+        if t < per:
+            return u * per + t, d
+        d += 1
+    return -1, d
 
 
 @hot_jit

@@ -106,6 +106,43 @@ class Run:
 
 
 @hot_jit
+def _driven_height(q, family):
+    """``(mean y of the driven particles, their count)``; (0, 0) without any."""
+    y_top = 0.0
+    n_drv = 0
+    for i in range(q.shape[0]):
+        if family[i] == 2:
+            y_top += q[i, 1]
+            n_drv += 1
+    if n_drv:
+        y_top /= n_drv
+    return y_top, n_drv
+
+
+@hot_jit
+def _box(box, lx, ly, rate, dt):
+    """Fill ``box`` (a row of the workspace) with the passes' ``(lx, ly, shift, dshift,
+    shift rate)`` but the shift, which the loop sets each step."""
+    box[0] = lx
+    box[1] = ly
+    box[3] = rate * dt
+    box[4] = rate
+
+
+@hot_jit
+def _record(frame, q, v, hist, rec_q, rec_v, rec_h):
+    """Frame ``frame`` of the records: ``q``, ``v`` and, if ``rec_h`` has frames, ``hist``."""
+    for i in range(q.shape[0]):
+        for b in range(3):
+            rec_q[frame, i, b] = q[i, b]
+            rec_v[frame, i, b] = v[i, b]
+    if rec_h.shape[0]:
+        for c in range(hist.shape[0]):
+            for b in range(hist.shape[1]):
+                rec_h[frame, c, b] = hist[c, b]
+
+
+@hot_jit
 def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx, ly, shiftv, ci,
           cj, cm, ck, hist, flag, cout, ref, skin, dof, damp, ctrl, meas, dt, step0, n_steps, mid,
           record_every, frame0, rec_q, rec_v, rec_h, tol, check_every, dqh, fcon, live, pstart,
@@ -124,31 +161,14 @@ def _loop(law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext, lx,
     implicit = 1.0 / (1.0 + half * nu)  # the second half kick's drag, implicit
     frame = frame0
     residual = np.inf
-    y_top = 0.0
-    n_drv = 0
-    for i in range(n):
-        if family[i] == 2:
-            y_top += q[i, 1]
-            n_drv += 1
-    if n_drv:
-        y_top /= n_drv
+    y_top, n_drv = _driven_height(q, family)
     lim = skin * skin
     box = work[0, 7, :5]   # (lx, ly, shift, dshift, shift rate) of the passes
-    box[0] = lx
-    box[1] = ly
-    box[3] = rate * dt
-    box[4] = rate
+    _box(box, lx, ly, rate, dt)
     for step in range(step0, n_steps):
         if not (mid and step == step0):
             if record_every > 0 and step % record_every == 0 and frame < rec_q.shape[0]:
-                for i in range(n):
-                    for b in range(3):
-                        rec_q[frame, i, b] = q[i, b]
-                        rec_v[frame, i, b] = v[i, b]
-                if rec_h.shape[0]:
-                    for c in range(hist.shape[0]):
-                        for b in range(hist.shape[1]):
-                            rec_h[frame, c, b] = hist[c, b]
+                _record(frame, q, v, hist, rec_q, rec_v, rec_h)
                 frame += 1
             vy = vy_drive
             if gain > 0.0:
@@ -199,23 +219,18 @@ def _drift_share(w, q, v, f, dq, dqh, ginv, family, ref, dof, half, nu, dt, vx_d
                  y_ref, scale, share):
     """Thread w's parts of :func:`drift_range` (:func:`fricstab.engine.team.claim`):
     ``(far, bad)`` over its parts."""
-    n_threads = team.threads_of(share)
-    per = share[n_threads, 7]
-    parts = per * n_threads
+    parts = team.parts_of(share)
     n = q.shape[0]
     far = 0.0
     bad = -1
-    for d in range(n_threads):   # its own share first, then what the others left
-        u = (w + d) % n_threads
-        t = team.claim(share, u, team.DRIFT)
-        while t < per:
-            t += u * per
-            far_t, bad_t = drift_range(t * n // parts, (t + 1) * n // parts, q, v, f, dq, dqh,
-                                       ginv, family, ref, dof, half, nu, dt, vx_drive, vy,
-                                       affine, y_ref, scale)
-            far = max(far, far_t)
-            bad = team.first(bad, bad_t)
-            t = team.claim(share, u, team.DRIFT)
+    t, d = team.next_part(share, w, team.DRIFT, 0)
+    while t >= 0:
+        far_t, bad_t = drift_range(t * n // parts, (t + 1) * n // parts, q, v, f, dq, dqh, ginv,
+                                   family, ref, dof, half, nu, dt, vx_drive, vy, affine, y_ref,
+                                   scale)
+        far = max(far, far_t)
+        bad = team.first(bad, bad_t)
+        t, d = team.next_part(share, w, team.DRIFT, d)
     return far, bad
 
 
@@ -245,21 +260,11 @@ def _member(w, law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext
     implicit = 1.0 / (1.0 + half * nu)
     frame = frame0
     residual = np.inf
-    y_top = 0.0
-    n_drv = 0
-    for i in range(n):
-        if family[i] == 2:
-            y_top += q[i, 1]
-            n_drv += 1
-    if n_drv:
-        y_top /= n_drv
+    y_top, n_drv = _driven_height(q, family)
     shift, ref_shift, clock = shiftv[0], shiftv[1], shiftv[2]
     lim = skin * skin
-    box = work[w, 7, :5]   # this thread's (lx, ly, shift, dshift, shift rate)
-    box[0] = lx
-    box[1] = ly
-    box[3] = rate * dt
-    box[4] = rate
+    box = work[w, 7, :5]   # this thread's
+    _box(box, lx, ly, rate, dt)
     hq = dqh if affine else dq
     stop, status, item = n_steps, OK, -1
     if not team.gate(share):   # everyone has read q before anyone moves it
@@ -268,14 +273,7 @@ def _member(w, law, p, pw, walls, q, v, f, dq, ginv, radius, rscale, family, ext
         if not (mid and step == step0):
             if record_every > 0 and step % record_every == 0 and frame < rec_q.shape[0]:
                 if lead:
-                    for i in range(n):
-                        for b in range(3):
-                            rec_q[frame, i, b] = q[i, b]
-                            rec_v[frame, i, b] = v[i, b]
-                    if rec_h.shape[0]:
-                        for c in range(hist.shape[0]):
-                            for b in range(hist.shape[1]):
-                                rec_h[frame, c, b] = hist[c, b]
+                    _record(frame, q, v, hist, rec_q, rec_v, rec_h)
                 frame += 1
                 team.barrier(share)   # recorded before anyone moves on
             vy = vy_drive
