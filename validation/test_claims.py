@@ -1,0 +1,137 @@
+"""The claims registry: RESULTS.md is what it writes, records are sound and fresh.
+
+CI runs this module: it fails when RESULTS.md or a marked block of another
+page differs from what the registry renders, when a record was edited by
+hand, when the code a minutes- or hours-scale claim depends on changed since
+it was recorded (naming the claim and the command that regenerates it), and
+when a seconds-tier claim recomputed here moves beyond its stated tolerance.
+"""
+
+import json
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from claims import all_claims, jobs, records, render  # noqa: E402
+from claims.fingerprint import ROOT, changes, source_hash  # noqa: E402
+from claims.runner import recompute, values_of  # noqa: E402
+
+import reproduce  # noqa: E402
+
+JOBS = jobs()
+SECONDS = [j for j, cs in JOBS.items() if cs[0].tier == "seconds"]
+
+
+def test_results_md_is_what_the_registry_writes():
+    diff = render.differences()
+    assert not diff, f"{diff}: regenerate with python validation/reproduce.py --write"
+
+
+def test_every_claim_below_hours_is_recorded():
+    missing = [j for j, cs in JOBS.items() if cs[0].tier != "hours" and records.load(j) is None]
+    assert not missing, f"never recorded: {missing}"
+
+
+def test_records_are_sound():
+    problems = [p for j in JOBS if (rec := records.load(j)) for p in records.verify(rec)]
+    assert not problems, "\n".join(problems)
+
+
+def test_no_long_claim_is_stale():
+    stale = {j: ch for j, ch in reproduce.stale_jobs().items()
+             if JOBS[j][0].tier != "seconds" and ch != ["never recorded"]}
+    msg = "\n".join(f"stale: {j} ({', '.join(ch[:3])}): python validation/reproduce.py "
+                    f"--claim {JOBS[j][0].name}" for j, ch in stale.items())
+    assert not stale, msg
+
+
+@pytest.mark.parametrize("job", SECONDS)
+def test_seconds_claim_recomputes_within_tolerance(job):
+    rec = records.load(job)
+    if rec is None:
+        pytest.fail(f"{job} never recorded")
+    old, new = values_of(rec), recompute(JOBS[job][0])
+    for c in JOBS[job]:
+        ok, text = c.check(old, new)
+        assert ok, f"{c.name}: {text}"
+
+
+def test_every_verdict_is_computed():
+    """A verdict comes from the claim's function of the recorded values."""
+    for c in all_claims():
+        rec = records.load(c.job_name)
+        if rec is not None:
+            v = c.judge(values_of(rec))
+            assert v.label in {"agrees", "disagrees", "meets", "fails", "measured",
+                               "not comparable"}, (c.name, v)
+
+
+# ------------------------------------------------------------ the checks can fail
+
+def _copy_tree(fp, tmp):
+    for rel in list(fp["modules"]) + [fp["claim"]["module"]] + list(fp["inputs"]):
+        dst = tmp / rel
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(ROOT / rel, dst)
+
+
+def _a_long_record():
+    for j, cs in JOBS.items():
+        rec = records.load(j)
+        if rec is not None and cs[0].tier != "seconds":
+            return j, rec
+    # before any long claim is recorded, a seconds claim's record serves the same check
+    j = SECONDS[0]
+    return j, records.load(j)
+
+
+def test_changing_a_dependency_marks_the_claim_stale(tmp_path):
+    job, rec = _a_long_record()
+    fp = rec["fingerprint"]
+    _copy_tree(fp, tmp_path)
+    assert changes(fp, root=tmp_path) == []
+    # a docstring or comment changes nothing that runs: still fresh
+    target = next(m for m in fp["modules"] if m.startswith("fricstab/engine/")
+                  or m.startswith("fricstab/laws/"))
+    path = tmp_path / target
+    text = path.read_text()
+    path.write_text("# a comment\n" + text.replace('"""', '"""An edited docstring. ', 1))
+    assert changes(fp, root=tmp_path) == []
+    # a changed function body: stale, and the path is named
+    path.write_text(text + "\n\ndef _added_by_the_test():\n    return 1\n")
+    assert target in changes(fp, root=tmp_path)
+    # the claim's own compute changed: stale
+    path.write_text(text)
+    own = tmp_path / fp["claim"]["module"]
+    src = own.read_text()
+    name = fp["claim"]["names"][-1]
+    own.write_text(src.replace(f"def {name}(", f"def {name}(_unused=None, ", 1))
+    assert any(fp["claim"]["module"] in c for c in changes(fp, root=tmp_path))
+
+
+def test_a_hand_edited_record_fails(tmp_path):
+    job, rec = _a_long_record()
+    assert records.verify(rec) == []
+    edited = json.loads(json.dumps(rec))
+    first = next(iter(edited["values"]))
+    edited["values"][first] = "edited by hand"
+    assert any("digest" in p for p in records.verify(edited))
+
+
+def test_a_hand_edited_results_md_fails(monkeypatch, tmp_path):
+    fake = tmp_path / "RESULTS.md"
+    fake.write_text(render.results_md().replace("| ", "| 1.0 ", 1))
+    monkeypatch.setattr(render, "RESULTS", fake)
+    monkeypatch.setattr(render, "pages", lambda: [])
+    assert render.differences() != []
+
+
+def test_source_hash_ignores_docstrings_not_code():
+    a = 'def f(x):\n    """Doc."""\n    return x + 1\n'
+    assert source_hash(a) == source_hash(a.replace("Doc.", "Other doc.") + "# comment\n")
+    assert source_hash(a) != source_hash(a.replace("x + 1", "x + 2"))
