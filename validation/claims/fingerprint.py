@@ -4,7 +4,7 @@ A claim is recomputed in a process of its own (``reproduce.py`` starts one
 per claim) that imports only the claim machinery and the claim's section
 module.  After ``compute`` returns, the dependence is read off that process:
 
-* every module of the checkout (``fricstab/``, ``validation/``) in
+* every module of the checkout (``fricstab/``, ``validation/``, ``tests/``) in
   ``sys.modules``: Python runs no code of a module it has not imported, and
   numba compiles only functions of imported modules, so the set is a
   superset of the code that ran (sound, and coarse: a module imported but
@@ -30,7 +30,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-WATCHED = ("fricstab", "validation")
+WATCHED = ("fricstab", "validation", "tests")
 #: the claim machinery itself: not a dependence of any claim's values (section modules
 #: of validation/claims/ enter by the claim's closure; helpers named _*.py whole)
 MACHINERY = {f"validation/claims/{m}.py" for m in
