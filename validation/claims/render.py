@@ -22,7 +22,7 @@ from .runner import values_of
 RESULTS = ROOT / "validation" / "RESULTS.md"
 #: pages that may carry marked blocks
 PAGES = ("README.md", "docs/**/*.md", "validation/*.md")
-_BLOCK = re.compile(r"<!-- claim ([\w.\-]+)(?::([\w\-]+))? -->(.*?)<!-- /claim -->", re.S)
+_BLOCK = re.compile(r"<!-- claim ([\w\-]+\.[\w.\-]+)(?::([\w\-]+))? -->(.*?)<!-- /claim -->", re.S)
 _TIERS = re.compile(r"(<!-- claims-tiers -->)(.*?)(<!-- /claims-tiers -->)", re.S)
 
 HEADER = """# Results
