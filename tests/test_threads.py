@@ -264,15 +264,32 @@ def test_busy_counts_other_jobs_not_this_process(monkeypatch):
     assert not parallel.busy(1)      # one thread has the other core
 
 
-def test_own_load_follows_this_process_cpu_use():
-    """Busy work for 1.2 s raises own_load from its value before by a weighted share of a core."""
-    parallel.own_load()
-    start = time.perf_counter()
-    before = parallel._own[2]
-    x = 0.0
-    while time.perf_counter() - start < 1.2:
-        x += 1.0
+def test_own_load_follows_this_process_cpu_use(monkeypatch):
+    """A process that keeps one core busy for 1.2 s raises own_load by the exponential
+    weight of that span: (1 - exp(-1.2/60)) (1 - before), exactly.
+
+    The clocks are the test's own (wall and CPU time advance together, as for one
+    busy core), so neither the machine's load nor its scheduler can move the result.
+    """
+    clock = {"wall": 1000.0, "cpu": 10.0}
+
+    class FakeTime:
+        @staticmethod
+        def perf_counter():
+            return clock["wall"]
+
+        @staticmethod
+        def process_time():
+            return clock["cpu"]
+
+    monkeypatch.setattr(parallel, "time", FakeTime)
+    monkeypatch.setattr(parallel, "_own", [clock["wall"], clock["cpu"], 0.25])
+    before = parallel.own_load()
+    assert before == 0.25                      # under a second: no update
+    clock["wall"] += 1.2
+    clock["cpu"] += 1.2
     after = parallel.own_load()
-    # one core busy for span s moves the estimate by (1 - exp(-s/60)) (1 - before), s >= 1.2:
-    # at least 0.5 of that (the process may be descheduled on a loaded machine)
-    assert after - before >= 0.5 * (1.0 - np.exp(-1.2 / 60.0)) * (1.0 - before) - 1e-12
+    expected = before + (1.0 - np.exp(-1.2 / 60.0)) * (1.0 - before)
+    assert abs(after - expected) <= 4 * np.finfo(float).eps   # a few roundings of O(1) terms
+    clock["wall"] += 3.0                       # idle for 3 s: the estimate decays
+    assert parallel.own_load() < after

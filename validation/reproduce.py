@@ -161,7 +161,8 @@ def listing():
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--claim", nargs="+", metavar="NAME")
-    ap.add_argument("--tier", choices=TIERS)
+    ap.add_argument("--tier", choices=TIERS + ("quick",),
+                    help="a tier and the cheaper ones ('quick' is 'seconds')")
     ap.add_argument("--only-stale", action="store_true", help="with --tier: stale claims only")
     ap.add_argument("--resume", action="store_true", help="go on with an interrupted run")
     ap.add_argument("--stale", action="store_true", help="list stale claims; exit 1 if any")
@@ -170,6 +171,8 @@ def main(argv=None):
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--worker", metavar="JOB", help=argparse.SUPPRESS)
     ns = ap.parse_args(argv)
+    if ns.tier == "quick":
+        ns.tier = "seconds"
     if ns.worker:
         work(ns.worker)
         return 0
