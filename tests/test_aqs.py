@@ -139,3 +139,31 @@ def test_cli_non_convergence_exit_4_names_the_step(run_dir, tmp_path, monkeypatc
     assert main(args + ["--packing", str(run_dir), "--out", str(tmp_path / "o")]) == 4
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "strain step 1 " in err[0], err
+
+
+def test_event_folders_match_the_record_when_a_birth_is_not_located(tmp_path):
+    """Every folder aqs.json names holds the state at its event's bracket ends, and no
+    other birth folder exists, also after a birth that bisection could not locate (the
+    folders were numbered over all births and the record over the located ones)."""
+    pk = tmp_path / "P32"
+    assert main(["packing", "make", "--n", "32", "--out", str(pk), "--quiet",
+                 "--no-progress"]) == 0
+    out = tmp_path / "A"
+    assert main(["packing", "aqs", "--law", "charan", "--packing", str(pk), "--strain",
+                 "0.028", "--dgamma", "2e-3", "--out", str(out), "--quiet",
+                 "--no-progress"]) == 0
+    doc = json.loads((out / "aqs.json").read_text())
+    births = [e for e in doc["events"] if e["kind"] == "birth"]
+    assert any(not e["located"] for e in births[:-1]), \
+        "this path has an unlocated birth before a located one (the case under test)"
+    named = set()
+    for e in births:
+        if not e["located"]:
+            assert "directories" not in e
+            continue
+        for d, g in zip(e["directories"], (e["gamma_lo"], e["gamma_hi"])):
+            named.add(d)
+            with np.load(out / d / "state.npz") as z:
+                assert float(z["le_offset"]) == pytest.approx(g * z["box"][1], rel=1e-12)
+    on_disk = {f"events/{p.name}" for p in (out / "events").iterdir()}
+    assert on_disk == named

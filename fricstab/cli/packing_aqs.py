@@ -152,6 +152,9 @@ def aqs(ns, argv):
     stats = compare([{"drops": [d.gamma for d in drops], "births": [e.gamma for e in births],
                       "gamma_max": float(res.strain[-1])}], window)
     located = [e for e in births if e.located]
+    # run_aqs numbers the births it passes to on_birth over all births, located or not:
+    # the record names the folders by the same number
+    birth_number = {id(e): k for k, e in enumerate(births)}
     events = []
     for e in res.events:
         rec = {"kind": e.kind, "step": e.step, "gamma": e.gamma, "gamma_lo": e.gamma_lo,
@@ -159,7 +162,7 @@ def aqs(ns, argv):
                "pair_real_part": e.center, "radius": e.radius, "bisections": e.bisections,
                "located": e.located, "growth_rate": e.growth_hi}
         if e.kind == "birth" and e.located:
-            k = located.index(e)
+            k = birth_number[id(e)]
             rec["directories"] = [f"events/birth_{k}_lo", f"events/birth_{k}_hi"]
         events.append(rec)
     doc = {"packing": source.record(), **summary(packing, bb), "law": run.material.law,
