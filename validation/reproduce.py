@@ -36,17 +36,31 @@ from claims.runner import recompute, spawn, values_of, work  # noqa: E402
 PROGRESS = records.RECORDS / ".progress.json"
 
 
-def stale_jobs():
-    """job -> the paths whose code changed since it was recorded (or 'never recorded')."""
+def stale_jobs(root=None):
+    """job -> the paths whose code changed since it was recorded (or 'never recorded');
+    ``root``: the checkout to compare with (default this one)."""
     out = {}
     for job in jobs():
         rec = records.load(job)
         if rec is None:
             out[job] = ["never recorded"]
             continue
-        ch = changes(rec["fingerprint"])
+        ch = changes(rec["fingerprint"]) if root is None else changes(rec["fingerprint"], root)
         if ch:
             out[job] = ch
+    return out
+
+
+def stale_messages(root=None):
+    """One line per stale claim past the seconds tier (CI fails on any): the claims, the
+    changed code, and the command that regenerates them."""
+    by_job, out = jobs(), []
+    for job, ch in stale_jobs(root).items():
+        c = by_job[job][0]
+        if c.tier != "seconds" and ch != ["never recorded"]:
+            out.append(f"stale: {', '.join(x.name for x in by_job[job])} (code changed: "
+                       f"{', '.join(ch[:4])}); regenerate: python validation/reproduce.py "
+                       f"--claim {c.name}")
     return out
 
 
@@ -128,12 +142,7 @@ def check():
                             f"--claim {cs[0].name}")
             continue
         problems += records.verify(rec)
-    for job, ch in stale_jobs().items():
-        c = jobs()[job][0]
-        if c.tier != "seconds" and ch != ["never recorded"]:
-            problems.append(f"stale: {', '.join(x.name for x in jobs()[job])} (code changed: "
-                            f"{', '.join(ch[:4])}); regenerate: python validation/reproduce.py "
-                            f"--claim {c.name}")
+    problems += stale_messages()
     problems += [f"{p} differs from what the registry writes: python validation/reproduce.py "
                  "--write" for p in render.differences()]
     for job, cs in jobs().items():
