@@ -7,7 +7,9 @@ chain (F_y = 0.1, kn = 2000, kt = 2 kn / 7, mu = 10) under several protocols
 and tabulates, for each, the event sequence, the first birth, the number of
 complex pairs at the paper's F_x values (0.03, 0.04, 0.062, 0.083, 0.087,
 0.090) and whether pairs exist for all F_x > 0.082 up to 0.1.  Writes
-``chain_protocols.md`` and ``chain_protocols.png`` next to itself.
+``chain_protocols.md`` and ``chain_protocols.png`` next to itself; :func:`run`
+returns the numbers (the claims ``chain.protocol_*`` of
+``validation/claims/chain.py``).
 
 Variants
 --------
@@ -38,7 +40,7 @@ does).
     python validation/chain_protocols.py [--quick]
 
 ``--quick`` (about 1 minute) uses damped ramp steps 5 times coarser and a
-smaller step cap; the full run takes about 2.5 minutes on one core.
+smaller step cap; the full run takes a few minutes on one core.
 """
 
 import argparse
@@ -365,12 +367,9 @@ def code_version():
         return "unknown"
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--quick", action="store_true",
-                   help="damped variants at step 5e-3 with a smaller step cap")
-    p.add_argument("--no-figure", action="store_true")
-    ns = p.parse_args(argv)
+def run(quick=False, no_figure=False):
+    """Run every variant, write ``chain_protocols.md`` (and ``.png``); returns :func:`summary`."""
+    ns = argparse.Namespace(quick=quick, no_figure=no_figure)
     t_start = time.time()
     damped_step = 5e-3 if ns.quick else 1e-3
     cap = 1_500_000 if ns.quick else 3_000_000
@@ -476,10 +475,11 @@ def main(argv=None):
                             f"event is a {e['kind']} at F_x {where}"
                             + (f" ({abs(e['fx'] - 0.062):.1e} from 0.062)." if e["located"]
                                else "."))
-    damped_lines = []
+    damped_lines, under_half_nu = [], []
     for key in ("damped0.01", "damped0.1", "damped0.447", "damped1"):
         r = results[key]
         g = [x for x, n in zip(r["growth"], r["counts"]) if n]
+        under_half_nu.append(max(g, default=0.0) < r["nu"] / 2)
         damped_lines.append(
             f"  * nu = {r['nu']:.3g}: {sum(1 for n in r['counts'] if n)} of "
             f"{sum(1 for n in r['counts'] if n is not None)} converged equilibria have a pair, "
@@ -581,8 +581,12 @@ def main(argv=None):
         "conjugate pair grows at rate Im sqrt(-lambda) > nu/2 repels the relaxation, which "
         "presumably moves along the history-dependent family of equilibria until it "
         "settles on one that is stable for the damped dynamics, or on none (to first order "
-        "in nu^2/|lambda|; consistent with this, every converged damped equilibrium below "
-        "has its largest growth rate under nu/2). Along the Newton ramp the largest "
+        "in nu^2/|lambda|; "
+        + ("consistent with this, every converged damped equilibrium below has its largest "
+           "growth rate under nu/2" if all(under_half_nu) else
+           "but not every converged damped equilibrium below has its largest growth rate "
+           "under nu/2")
+        + "). Along the Newton ramp the largest "
         f"growth rate reaches {newton_growth_max:.3g} (simulation units), far above nu/2 "
         "for nu = 0.01 and 0.1:",
         *damped_lines,
@@ -602,6 +606,47 @@ def main(argv=None):
     (HERE / "chain_protocols.md").write_text("\n".join(lines))
     log("\n".join(lines))
     log(f"total {total:.1f} s")
+    return summary(variants, results, damped_step)
+
+
+def summary(variants, results, damped_step):
+    """Per variant: pair counts at the probes, agreement with the paper, first birth,
+    pairs for all F_x > 0.082, where a damped ramp stopped; and the nearest event to
+    0.062 of each variant without a pair there (JSON values)."""
+    out = {"probes": list(PROBES), "paper": [PAPER[q] for q in PROBES],
+           "damped_step": damped_step, "variants": {}}
+    for v in variants:
+        r = results[v["key"]]
+        births = [e for e in (r["events"] or []) if e["kind"] == "birth"]
+        near = None
+        if r["probes"][0.062] == 0 and r["events"]:
+            e = min(r["events"], key=lambda e: abs(e["fx"] - 0.062))
+            near = {"kind": e["kind"], "fx": float(e["fx"]), "located": bool(e["located"]),
+                    "lo": float(e["lo"]), "hi": float(e["hi"])}
+        out["variants"][v["key"]] = {
+            "label": v["label"],
+            "probes": [r["probes"][q] for q in PROBES],
+            "agreement": agreement(r),
+            "above": r.get("above"), "above_note": r.get("above_s"),
+            "first_birth": first_birth(r),
+            "first_birth_fx": float(births[0]["fx"]) if births and births[0]["located"] else None,
+            "events": None if r["events"] is None else len(r["events"]),
+            "event_fx": None if r["events"] is None else [round(float(e["fx"]), 9)
+                                                           for e in r["events"]],
+            "no_equilibrium": [float(fx) for fx, _ in r["failures"]],
+            "stopped": None if r["stopped"] is None else float(r["stopped"]),
+            "continuous_from": continuous_from(r),
+            "nearest_to_0.062": near}
+    return out
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true",
+                   help="damped variants at step 5e-3 with a smaller step cap")
+    p.add_argument("--no-figure", action="store_true")
+    ns = p.parse_args(argv)
+    run(ns.quick, ns.no_figure)
 
 
 if __name__ == "__main__":

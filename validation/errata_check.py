@@ -1172,23 +1172,45 @@ def check_ishima():
            % tag(xi_ok and g1_ok))
 
 
-def main():
-    print("# errata_check.py: printed equations vs SymPy derivation (exact rational points)")
+def audit():
+    """Run every check (seeded points) and return the verdicts and the counts.
+
+    Returns ``{"equations": {paper: {eq: status}}, "counts": {paper: {"checked",
+    "agree", "differ", "harmless", "not_checkable", "differ_eqs", "harmless_eqs",
+    "not_checkable_eqs"}}}`` over the audited equations (context rows and the
+    unnumbered statements excluded, as in the printed summary).
+    """
+    RNG.seed(20240917)
+    RESULTS.clear()
     check_charan()
     check_ishima()
-    print("#")
+    equations, counts = {}, {}
     for paper in ("Charan", "Ishima"):
+        equations[paper] = {str(eq): st for pp, eq, st in RESULTS if pp == paper}
         rows = [r for r in RESULTS if r[0] == paper and "context" not in str(r[1])
                 and "+" not in str(r[1])]
-        cnt = {}
-        for _, _, st in rows:
-            key = ("differs" if st.startswith("differs") else st)
-            cnt[key] = cnt.get(key, 0) + 1
-        harmless = sum(1 for _, _, st in rows if st == "differs (harmless)")
+        differ = [str(eq) for _, eq, st in rows if st.startswith("differs")]
+        harmless = [str(eq) for _, eq, st in rows if st == "differs (harmless)"]
+        ocr = [str(eq) for _, eq, st in rows if st == "not checkable (OCR)"]
+        counts[paper] = {"checked": len(rows),
+                         "agree": sum(st == "agrees" for _, _, st in rows),
+                         "differ": len(differ), "harmless": len(harmless),
+                         "not_checkable": len(ocr),
+                         "differ_eqs": [e for e in differ if e not in harmless],
+                         "harmless_eqs": harmless, "not_checkable_eqs": ocr}
+    return {"equations": equations, "counts": counts}
+
+
+def main():
+    print("# errata_check.py: printed equations vs SymPy derivation (exact rational points)")
+    counts = audit()["counts"]
+    print("#")
+    for paper in ("Charan", "Ishima"):
+        c = counts[paper]
         print("# %s (audited equations only): %d checked: %d agree, %d differ (%d of them "
               "harmless labels/typos), %d not checkable"
-              % (paper, len(rows), cnt.get("agrees", 0), cnt.get("differs", 0), harmless,
-                 cnt.get("not checkable (OCR)", 0)))
+              % (paper, c["checked"], c["agree"], c["differ"], c["harmless"],
+                 c["not_checkable"]))
     print("# runtime %.1f s" % (time.time() - START))
     return 0
 

@@ -559,16 +559,13 @@ def write_md(results, path, png, args, runtime):
     path.write_text("\n".join(lines))
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true",
-                        help="two steps per decade and fewer timing repeats")
-    parser.add_argument("--out", default=str(HERE / "fd_tradeoff"),
-                        help="output path without extension (default: validation/fd_tradeoff)")
-    args = parser.parse_args(argv)
+def run(quick=False, out=HERE / "fd_tradeoff", log=print):
+    """Measure every law at both configurations, write ``out``.md and .png; return
+    the results (one dict per law and configuration: ``rows[method]["err"]`` the best
+    error, ``rows[method]["h"]`` its step; the times are measurements)."""
     start = time.perf_counter()
-    grid = grids(args.quick)
-    repeats, target = (5, 0.002) if args.quick else (25, 0.01)
+    grid = grids(quick)
+    repeats, target = (5, 0.002) if quick else (25, 0.01)
     results = []
     for name in LAW_NAMES:
         for config, case in CONFIGS.items():
@@ -576,15 +573,26 @@ def main(argv=None):
             res = measure(name, case, grid, repeats, target)
             res["config"] = config
             results.append(res)
-            print(f"{name:12s} {config:15s} " + "  ".join(
+            log(f"{name:12s} {config:15s} " + "  ".join(
                 f"{k} {r['err']:.1e}/{r['ratio']:.0f}x" for k, r in res["rows"].items()
-                if k != "generated") + f"  [{time.perf_counter() - t0:.1f} s]", flush=True)
-    out = Path(args.out)
+                if k != "generated") + f"  [{time.perf_counter() - t0:.1f} s]")
+    out = Path(out)
     png, md = out.with_suffix(".png"), out.with_suffix(".md")
     plot(results, png)
     runtime = time.perf_counter() - start
-    write_md(results, md, png, args, runtime)
-    print(f"wrote {md} and {png} in {runtime:.0f} s")
+    write_md(results, md, png, argparse.Namespace(quick=quick), runtime)
+    log(f"wrote {md} and {png} in {runtime:.0f} s")
+    return results
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true",
+                        help="two steps per decade and fewer timing repeats")
+    parser.add_argument("--out", default=str(HERE / "fd_tradeoff"),
+                        help="output path without extension (default: validation/fd_tradeoff)")
+    args = parser.parse_args(argv)
+    run(args.quick, args.out, log=lambda text: print(text, flush=True))
 
 
 if __name__ == "__main__":

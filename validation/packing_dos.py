@@ -16,7 +16,8 @@
 quick: N = 256 (3 samples); medium: N = 1024 (2 samples) and the route
 comparison at N = 1024; full: N = 4096 (1 sample, symmetric route only, kT/kN = 1e-8 .. 1; the
 effective-Hessian and rattler comparisons are left to the smaller tiers).
-Writes ``packing_dos.md`` and ``packing_dos.png``.
+Writes ``packing_dos_<tier>.md`` and ``.png``; :func:`run` returns the numbers
+(``validation/claims/packing.py``).
 """
 
 import argparse
@@ -85,12 +86,13 @@ def rotational(samples, n_total, lines, kts=KTS):
     lines += ["## Rotational band against kT/kN (Figs. 9-10)", "",
               "| kT/kN | peak omega t0 | median omega t0 | peak / sqrt(kT/kN) | "
               "median / sqrt(kT/kN) | rotation-dominated modes |", "|---|---|---|---|---|---|"]
-    peaks, medians, used = [], [], []
+    peaks, medians, used, table = [], [], [], []
     for kt in kts:
         om = np.concatenate([s[kt][0] for s in samples])
         pr = np.concatenate([s[kt][2] for s in samples])
         pk, md = rotational_peak(om, pr)
         nrot = int((pr > 0.5).sum())
+        table.append({"kt": kt, "peak": pk, "median": md, "rotation_dominated": nrot})
         lines.append(f"| {kt:g} | {pk:.3g} | {md:.3g} | {pk / np.sqrt(kt):.3g} | "
                      f"{md / np.sqrt(kt):.3g} | {nrot} |")
         if kt <= 1e-2:
@@ -104,7 +106,7 @@ def rotational(samples, n_total, lines, kts=KTS):
               f"({lk[-1] - lk[0]:.0f} decades): peak {sp:.4f}, median {sm:.4f} "
               "(paper: 1/2).  Above kT/kN ~ 1 the bands merge and there is no separate "
               "rotational band (paper: Figs. 8c-d, 9c-d).", ""]
-    return sp, sm, (lk[-1] - lk[0])
+    return sp, sm, (lk[-1] - lk[0]), table
 
 
 def figure(samples, hess, eff, ratt, n_total, path, kts=KTS):
@@ -215,27 +217,43 @@ def effective_hessian(bb, kt):
             float(np.abs(out.contacts.hist).max()))
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--tier", choices=("quick", "medium", "full"), default="quick")
-    ns = p.parse_args(argv)
+def report_name(tier):
+    """The report of a tier: ``packing_dos_<tier>.md``."""
+    return f"packing_dos_{tier}"
+
+
+def run(tier="quick", out=HERE):
+    """Compute a tier, write its report and figure into ``out``; returns (values, paths).
+
+    ``values``: ``routes`` (quick, medium: per kT/kN the dense/eigh wall-time ratio,
+    the largest relative eigenvalue error and the L1 distance of the DOS), ``rotational``
+    (per kT/kN: peak and median frequency of the rotation-dominated modes, their
+    number), the fitted exponents over kT/kN <= 1e-2, ``effective_hessian`` (quick,
+    medium: largest relative eigenvalue difference J vs H_eff after a 1e-4 step),
+    ``backbone`` sizes.
+    """
+    out = Path(out)
     t_start = time.perf_counter()
     n, seeds = {"quick": (256, (0, 1, 2)), "medium": (1024, (0, 1)),
-                "full": (4096, (0,))}[ns.tier]
+                "full": (4096, (0,))}[tier]
+    name = report_name(tier)
     lines = ["# Packings: density of states and mode character (Ishima Figs. 8-14)", "",
-             f"`python validation/packing_dos.py --tier {ns.tier}` ({platform.machine()}, Python "
+             f"`python validation/packing_dos.py --tier {tier}` ({platform.machine()}, Python "
              f"{platform.python_version()}, {time.strftime('%Y-%m-%d')}).  N = {n}, phi = 0.90, "
              f"seeds {list(seeds)}; rattlers (Z <= 2) removed; D normalized by 3N (all "
              "particles), translations dropped.", ""]
     pks = [packing(n, 0.90, s) for s in seeds]
     bbs = [backbone(pk) for pk in pks]
+    values = {"tier": tier, "n": n, "seeds": list(seeds), "backbone": [bb.n for bb in bbs]}
     ok = True
-    if ns.tier in ("quick", "medium"):
+    if tier in ("quick", "medium"):
         res = route_comparison(bbs[0], lines, n)
+        values["routes"] = [{"kt": kt, "speedup": sp, "rel_error": rel, "l1": l1}
+                            for kt, sp, rel, l1 in res]
         ok &= all(r[2] < 1e-6 for r in res)
-        if ns.tier == "medium":
+        if tier == "medium":
             ok &= all(r[1] >= 3 for r in res)
-    kts = KTS if ns.tier != "full" else (1e-8, 1e-6, 1e-4, 1e-2, 1.0)
+    kts = KTS if tier != "full" else (1e-8, 1e-6, 1e-4, 1e-2, 1.0)
     samples = []
     for bb in bbs:
         t0 = time.perf_counter()
@@ -243,26 +261,32 @@ def main(argv=None):
         lines.append(f"Spectra with vectors (eigh), {len(kts)} values of kT/kN: "
                      f"{time.perf_counter() - t0:.0f} s for a backbone of {bb.n}.")
     lines.append("")
-    sp, sm, decades = rotational(samples, n, lines, kts)
+    sp, sm, decades, table = rotational(samples, n, lines, kts)
+    values.update({"rotational": table, "exponent_peak": sp, "exponent_median": sm,
+                   "decades": decades})
     ok &= abs(sp - 0.5) < 0.05 and decades >= 4
     hess = np.concatenate([modes(bb, 0.0)[0] for bb in bbs])
     eff, ratt = {}, {}
-    if ns.tier == "full":
-        figure(samples, hess, eff, ratt, n, HERE / "packing_dos_full.png", kts)
-        lines += ["![DOS figures](packing_dos_full.png)", "",
+    png, md = out / f"{name}.png", out / f"{name}.md"
+    if tier == "full":
+        figure(samples, hess, eff, ratt, n, png, kts)
+        lines += [f"![DOS figures]({name}.png)", "",
                   f"Total wall time: {time.perf_counter() - t_start:.0f} s."]
-        (HERE / "packing_dos_full.md").write_text("\n".join(lines) + "\n")
+        md.write_text("\n".join(lines) + "\n")
         print("\n".join(lines))
-        return 0 if ok else 1
+        values["ok"] = bool(ok)
+        return values, (md, png)
     lines += ["## Effective Hessian (App. H, Fig. 12) and rattlers (Fig. 13)", "",
               "In the unstrained state the histories vanish and J equals the effective Hessian "
               "exactly, so the paper's Fig. 12 agreement is an identity there.  To test the "
               "comparison where it can fail, J and H_eff (the same contacts with the history "
               "set to zero) are compared after a step strain of 1e-4 (histories ~1e-4 d):", "",
               "| kT/kN | max |xi_T| | max rel. eigenvalue difference J vs H_eff |", "|---|---|---|"]
+    values["effective_hessian"] = []
     for kt in (1e-4, 1.0):
         oj, oh, rel, hmax = effective_hessian(bbs[0], kt)
         eff[kt] = (oj, oh)
+        values["effective_hessian"].append({"kt": kt, "max_hist": hmax, "rel": float(rel)})
         lines.append(f"| {kt:g} | {hmax:.2e} | {rel:.2e} |")
     for kt in (1e-8, 1e-4):
         ratt[kt] = (with_rattlers(pks[0], kt), modes(bbs[0], kt)[0])
@@ -270,12 +294,21 @@ def main(argv=None):
     lines += ["", f"Rattlers (iterative Z <= 2): {nr} of {n} per sample.  With rattlers kept, "
               "their rotations and translations add near-zero and intermediate modes "
               "(figure, bottom right), as the paper's Fig. 13.", ""]
-    figure(samples, hess, eff, ratt, n, HERE / f"packing_dos_{ns.tier}.png", kts)
-    lines += [f"![DOS figures](packing_dos_{ns.tier}.png)", "",
+    figure(samples, hess, eff, ratt, n, png, kts)
+    lines += [f"![DOS figures]({name}.png)", "",
               f"Total wall time: {time.perf_counter() - t_start:.0f} s."]
-    (HERE / f"packing_dos_{ns.tier}.md").write_text("\n".join(lines) + "\n")
+    md.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
-    return 0 if ok else 1
+    values["ok"] = bool(ok)
+    return values, (md, png)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--tier", choices=("quick", "medium", "full"), default="quick")
+    ns = p.parse_args(argv)
+    values, _ = run(ns.tier)
+    return 0 if values["ok"] else 1
 
 
 if __name__ == "__main__":

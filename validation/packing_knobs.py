@@ -9,7 +9,8 @@
 3. Step strain ``dgamma`` is measured in ``packing_rigidity.md``; the
    eigen-solver route in ``packing_dos_*.md``.
 
-``python validation/packing_knobs.py [--quick]`` -> ``packing_knobs.md``.
+``python validation/packing_knobs.py [--quick]`` -> ``packing_knobs.md``; :func:`run`
+returns the numbers (``validation/claims/packing.py``).
 """
 
 import argparse
@@ -37,23 +38,26 @@ def _g(p):
     return rigidity(*ishima(bb, 1e-4)).g, rigidity(*ishima(bb, 1.0)).g
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="skip dphi = 1e-4 (the slowest)")
-    ns = ap.parse_args(argv)
+def run(quick=False, out=HERE):
+    """Measure the knobs, write ``packing_knobs.md`` into ``out``; returns (values, paths).
+
+    ``values``: ``dphi`` (per increment: the eight G at kT/kN = 1e-4 and 1, their means
+    and standard errors) and ``thresholds`` (per (f_tol, f_tol_compress): max |F| and G
+    relative to the tightest pair).
+    """
     t_all = time.perf_counter()
     make_packing(16, 0.85, 0)  # compile
     seeds = tuple(range(8))
     lines = ["# Packings: the speed/accuracy trade of each knob", "",
-             f"`python validation/packing_knobs.py{' --quick' if ns.quick else ''}` "
+             f"`python validation/packing_knobs.py{' --quick' if quick else ''}` "
              f"({platform.machine()}, Python {platform.python_version()}, "
              f"{time.strftime('%Y-%m-%d')}); N = {N}, phi = {PHI}; single runs, wall time on a "
              "shared 2-core machine.", "",
              "## Compression increment dphi", "",
              "| dphi | make_packing s (mean) | FIRE iterations (mean) | G(1e-4) mean +- s.e. | "
              "G(1) mean +- s.e. |", "|---|---|---|---|---|"]
-    dphis = (1e-2, 3e-3, 1e-3) if ns.quick else (1e-2, 3e-3, 1e-3, 1e-4)
-    means = {}
+    dphis = (1e-2, 3e-3, 1e-3) if quick else (1e-2, 3e-3, 1e-3, 1e-4)
+    means, values = {}, {"seeds": list(seeds), "dphi": {}, "thresholds": []}
     for dphi in dphis:
         secs, its, g4, g1 = [], [], [], []
         for s in seeds:
@@ -66,6 +70,9 @@ def main(argv=None):
             g1.append(b)
         se = lambda v: np.std(v, ddof=1) / np.sqrt(len(v))  # noqa: E731
         means[dphi] = (np.mean(g4), se(g4), np.mean(g1), se(g1))
+        values["dphi"][f"{dphi:g}"] = {"g_1e-4": g4, "g_1": g1, "mean_1e-4": means[dphi][0],
+                                       "se_1e-4": means[dphi][1], "mean_1": means[dphi][2],
+                                       "se_1": means[dphi][3]}
         lines.append(f"| {dphi:g} | {np.mean(secs):.1f} | {np.mean(its):.3g} | "
                      f"{np.mean(g4):.5f} +- {se(g4):.5f} | {np.mean(g1):.5f} +- {se(g1):.5f} |")
     lines += ["", "Reading: a change of dphi is significant only where the means differ by more "
@@ -85,13 +92,24 @@ def main(argv=None):
     for f_tol, f_c, sec, mf, a, b in rows:
         lines.append(f"| {f_tol:g} | {f_c:g} | {sec:.1f} | {mf:.1e} | {a / ref[4] - 1:+.1e} | "
                      f"{b / ref[5] - 1:+.1e} |")
+        values["thresholds"].append({"f_tol": f_tol, "f_tol_compress": f_c, "max_force": mf,
+                                     "rel_1e-4": a / ref[4] - 1, "rel_1": b / ref[5] - 1})
     lines += ["", "Reading: while the compression path stays in the same basin, both thresholds "
               "move G only by about the force residual over the stiffness (a linear effect); a "
               "threshold loose enough to change the path gives a different packing, and G then "
               "changes by the sample-to-sample spread of the table above.", "",
               f"Total wall time: {time.perf_counter() - t_all:.0f} s."]
-    (HERE / "packing_knobs.md").write_text("\n".join(lines) + "\n")
+    md = Path(out) / "packing_knobs.md"
+    md.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+    return values, (md,)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="skip dphi = 1e-4 (the slowest)")
+    ns = ap.parse_args(argv)
+    run(ns.quick)
 
 
 if __name__ == "__main__":

@@ -16,8 +16,9 @@ linear response regime" (``../shared/papers/ishima-rigidity-dos-frictional-grain
 5. N = 4096: G by sparse solve and its wall time (acceptance: < 1 min).
 
 ``python validation/packing_rigidity.py [--tier quick|medium|full]``
-(quick: N = 256 only, ~2 min; medium: + N = 1024 and 4096, ~15 min).
-Writes ``packing_rigidity.md`` and ``packing_rigidity.png``.
+(quick: N = 256 only, minutes; medium (also "full"): + N = 1024 and 4096).
+Writes ``packing_rigidity.md`` and ``.png`` (quick) or ``packing_rigidity_<tier>.md``
+and ``.png``; :func:`run` returns the numbers (``validation/claims/packing.py``).
 """
 
 import argparse
@@ -43,7 +44,9 @@ def _g(bb, kt, **kw):
     return rigidity(*ishima(bb, kt), **kw)
 
 KTS = (1e-4, 1.0, 10.0)
+DGAMMAS = (1e-6, 1e-5, 1e-4)
 SWEEP_KTS = (0.0, 1e-8, 1e-4, 1e-2, 1.0, 2.0, 10.0)
+PHIS = (0.85, 0.86, 0.88, 0.90)
 
 
 def agreement(n, seeds, lines, modes=True):
@@ -52,7 +55,7 @@ def agreement(n, seeds, lines, modes=True):
               "G (step) / G (solve) - 1 | step-strain error model / G | G (Eqs. 36-37) / G - 1 | "
               "mode-sum s | solve s | step s |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    worst = 0.0
+    worst, rows = 0.0, []
     for seed in seeds:
         bb = backbone(packing(n, 0.90, seed))
         for kt in KTS:
@@ -64,13 +67,25 @@ def agreement(n, seeds, lines, modes=True):
             d_modes = r.g_modes / r.g - 1 if modes else float("nan")
             d_step = s.g / r.g - 1
             worst = max(worst, abs(d_step), abs(d_modes) if modes else 0.0)
+            rows.append({"seed": seed, "kt": kt, "g_a": r.g_a, "g_na": r.g_na_solve, "g": r.g,
+                         "g_modes": r.g_modes if modes else float("nan"),
+                         "cond": _cond(r.jacobian) if modes else float("nan"),
+                         "g_step": float(s.g), "step_error": float(s.error),
+                         "g_flipped": float(g_fl)})
             lines.append(f"| {seed} | {kt:g} | {r.g_a:.6g} | {r.g_na_solve:.6g} | {r.g:.8g} | "
                          f"{d_modes:.1e} | {d_step:.1e} | {s.error / abs(r.g):.1e} | "
                          f"{g_fl / r.g - 1:+.3f} | {r.seconds.get('modes', float('nan')):.2f} | "
                          f"{r.seconds['solve']:.3f} | {s.seconds:.2f} |")
     lines += ["", f"Largest |relative disagreement| of the three routes: {worst:.1e} "
               "(acceptance: 1e-2 on every sample).", ""]
-    return worst
+    return worst, rows
+
+
+def _cond(jac):
+    """max |lambda| / min |lambda| over the nonzero eigenvalues of J (two zero modes)."""
+    from fricstab.analysis.dos import spectrum
+    w = np.sort(np.abs(spectrum(jac, vectors=False).eigenvalues))
+    return float(w[-1] / w[2])
 
 
 def dgamma_independence(n, seed, lines):
@@ -78,16 +93,22 @@ def dgamma_independence(n, seed, lines):
     lines += ["### dgamma independence (N = %d, seed %d)" % (n, seed), "",
               "| kT/kN | G (solve) | g(1e-6)/G - 1 | g(1e-5)/G - 1 | g(1e-4)/G - 1 | "
               "contacts changed at 1e-4 |", "|---|---|---|---|---|---|"]
+    out = []
     for kt in KTS:
         g = _g(bb, kt).g
         row = [f"{kt:g}", f"{g:.8g}"]
-        for dg in (1e-6, 1e-5, 1e-4):
+        rel, err = [], []
+        for dg in DGAMMAS:
             s = step_strain(*ishima(bb, kt), dg)
             row.append(f"{s.g / g - 1:+.1e}")
+            rel.append(float(s.g / g - 1))
+            err.append(float(s.error / abs(g)))
         row.append(str(s.contacts_changed))
         lines.append("| " + " | ".join(row) + " |")
+        out.append({"kt": kt, "g": g, "rel": rel, "error": err, "changed": s.contacts_changed})
     lines += ["", "The O(dgamma) truncation term grows linearly with dgamma, as the error "
               "model says; at 1e-4 it stays below 1e-2 unless contacts open or close.", ""]
+    return out
 
 
 def gna_root(bb):
@@ -104,7 +125,7 @@ def sweeps(n, seeds, phis, lines):
               "| phi | " + " | ".join(f"G (kT/kN={k:g})" for k in SWEEP_KTS) + " | "
               + " | ".join(f"G_NA ({k:g})" for k in SWEEP_KTS) + " | root of G_NA |",
               "|---|" + "---|" * (2 * len(SWEEP_KTS) + 1)]
-    table = {}
+    table, per = {}, {}
     roots = []
     for phi in phis:
         gs = np.zeros((len(seeds), len(SWEEP_KTS)))
@@ -117,6 +138,7 @@ def sweeps(n, seeds, phis, lines):
                 gs[a, b], gna[a, b] = r.g, r.g_na_solve
             rts.append(gna_root(bb))
         table[phi] = (gs.mean(0), gna.mean(0), gs.std(0) / np.sqrt(len(seeds)))
+        per[phi] = {"g": gs.tolist(), "g_na": gna.tolist(), "roots": rts}
         roots += rts
         lines.append(f"| {phi:.2f} | " + " | ".join(f"{v:.4g}" for v in gs.mean(0)) + " | "
                      + " | ".join(f"{v:+.3g}" for v in gna.mean(0)) + " | "
@@ -125,7 +147,7 @@ def sweeps(n, seeds, phis, lines):
     lines += ["", f"G_NA changes sign at kT/kN = {np.nanmin(roots):.3g} to {np.nanmax(roots):.3g} "
               f"(median {np.nanmedian(roots):.3g}) over {len(roots)} packings "
               "(paper: negative below 2, about zero at 2, positive above).", ""]
-    return table, roots
+    return table, roots, per
 
 
 def kt_curve(n, seed, phi=0.90):
@@ -160,48 +182,78 @@ def figure(table, curve, path):
     plt.close(fig)
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--tier", choices=("quick", "medium", "full"), default="quick")
-    ns = p.parse_args(argv)
+def report_name(tier):
+    """The report of a tier: ``packing_rigidity.md`` (quick) or ``packing_rigidity_<tier>.md``."""
+    return "packing_rigidity" if tier == "quick" else f"packing_rigidity_{tier}"
+
+
+def run(tier="quick", out=HERE):
+    """Compute a tier, write its report and figure into ``out``; returns (values, paths).
+
+    ``values``: ``agreement`` (N -> one row per seed and kT/kN: G_A, G_NA, G by solve,
+    modes and step strain with its error model, cond J, G with the printed J~),
+    ``dgamma`` (g(dgamma)/G - 1 per kT/kN), ``sweeps`` (phi -> per-packing G and G_NA
+    for ``SWEEP_KTS`` and the root of G_NA), ``curve`` (G against kT/kN, seed 0) and,
+    past quick, ``n4096`` (G and wall seconds per kT/kN).
+    """
+    out = Path(out)
     t_start = time.perf_counter()
+    name = report_name(tier)
     lines = ["# Packings: G by mode sum, sparse solve and step strain (Ishima Figs. 3-6)", "",
-             f"`python validation/packing_rigidity.py --tier {ns.tier}` ({platform.machine()}, "
+             f"`python validation/packing_rigidity.py --tier {tier}` ({platform.machine()}, "
              f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d')}).  Units: d = 1, "
              "k_N = 1, m = 1.  Packings: `make_packing` defaults (dphi = 1e-3, f_tol = 1e-14); "
              "rattlers (Z <= 2) removed.", "", "## Agreement of the three routes", ""]
-    worst = agreement(256, (0, 1, 2), lines)
-    if ns.tier != "quick":
-        worst = max(worst, agreement(1024, (0, 1), lines))
-    dgamma_independence(256, 0, lines)
+    values = {"tier": tier, "agreement": {}}
+    worst, values["agreement"]["256"] = agreement(256, (0, 1, 2), lines)
+    if tier != "quick":
+        w, values["agreement"]["1024"] = agreement(1024, (0, 1), lines)
+        worst = max(worst, w)
+    values["worst"] = worst
+    values["dgamma"] = dgamma_independence(256, 0, lines)
     lines += ["## Sweeps (Figs. 4-6)", ""]
-    seeds = (0, 1, 2) if ns.tier == "quick" else (0, 1, 2, 3)
-    table, roots = sweeps(256, seeds, (0.85, 0.86, 0.88, 0.90), lines)
+    seeds = (0, 1, 2) if tier == "quick" else (0, 1, 2, 3)
+    table, roots, per = sweeps(256, seeds, PHIS, lines)
+    values["sweeps"] = {"seeds": list(seeds), "kts": list(SWEEP_KTS),
+                        "phi": {f"{phi:.2f}": v for phi, v in per.items()}}
     curve = kt_curve(256, 0)
     kts, gs, g0 = curve
+    values["curve"] = {"kts": kts.tolist(), "g": gs.tolist(), "g0": g0}
     lines += ["### G against kT/kN (Fig. 5; N = 256, seed 0, phi = 0.90)", "",
               "| kT/kN | G | G/G(kT = 0) - 1 |", "|---|---|---|"]
     lines += [f"| {k:.3g} | {g:.8g} | {g / g0 - 1:+.2e} |" for k, g in zip(kts, gs)]
     lines += ["", f"Frictionless Hessian: G = {g0:.8g}.  G(kT) - G(0) is linear in kT as "
               "kT -> 0: the frictionless limit is reached smoothly (paper: Fig. 5).", ""]
-    if ns.tier != "quick":
+    if tier != "quick":
         p4 = packing(4096, 0.90, 0)
         t0 = time.perf_counter()
         bb = backbone(p4)
-        rows = []
+        rows, big = [], {"backbone": bb.n, "kts": list(KTS), "g": [], "seconds": []}
         for kt in KTS:
             t1 = time.perf_counter()
             r = _g(bb, kt)
+            big["g"].append(r.g)
+            big["seconds"].append(time.perf_counter() - t1)
             rows.append(f"| {kt:g} | {r.g:.8g} | {time.perf_counter() - t1:.2f} |")
+        values["n4096"] = big
         lines += ["## N = 4096 by sparse solve", "",
                   f"Backbone {bb.n} of 4096 particles ({time.perf_counter() - t0:.1f} s in all).",
                   "", "| kT/kN | G | wall s (assembly + solve) |", "|---|---|---|"] + rows + [""]
-    figure(table, curve, HERE / "packing_rigidity.png")
-    lines += ["![G vs phi, G vs kT, G_NA vs phi](packing_rigidity.png)", "",
+    png, md = out / f"{name}.png", out / f"{name}.md"
+    figure(table, curve, png)
+    lines += [f"![G vs phi, G vs kT, G_NA vs phi]({name}.png)", "",
               f"Total wall time: {time.perf_counter() - t_start:.0f} s."]
-    (HERE / "packing_rigidity.md").write_text("\n".join(lines) + "\n")
+    md.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
-    return 0 if worst < 1e-2 else 1
+    return values, (md, png)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--tier", choices=("quick", "medium", "full"), default="quick")
+    ns = p.parse_args(argv)
+    values, _ = run(ns.tier)
+    return 0 if values["worst"] < 1e-2 else 1
 
 
 if __name__ == "__main__":

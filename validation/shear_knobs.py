@@ -53,6 +53,54 @@ def rate(knob, seed, cache, run=True):
     return rec["phases"]["phases_per_step"], time.perf_counter() - t0
 
 
+def runs(knobs, seeds, cache, run=True, log=print):
+    """{knob: {seed: {rate, largest_drop, tau_mean, servo_rms}}} of the (cached) runs, and the
+    seconds spent running; a seed not cached is left out when ``run`` is False."""
+    table, total = {}, 0.0
+    for knob in knobs:
+        for seed in seeds:
+            r, sec = rate(knob, seed, cache, run)
+            if r is None:
+                continue
+            total += sec
+            rec = json.loads((cache / f"{knob}_s{seed}" / "shear.json").read_text())
+            table.setdefault(knob, {})[str(seed)] = {
+                "rate": r, "largest_drop": rec["phases"]["largest_drop"],
+                "tau_mean": rec["tau_mean_window"], "servo_rms": rec["servo"]["rms_rel_error"]}
+            log(f"{knob} seed {seed}: {r:.3f} phases per step ({sec:.0f} s)")
+    runs.seconds = total
+    return table
+
+
+def write(table, seeds, knobs, md=HERE / "shear_knobs.md", no_run=False, minutes=None):
+    """``md``: a row per knob (rates per seed, mean, spread), and the frame-interval row
+    from ``shear_paper.json`` where the paper-preset run has written it."""
+    lines = ["# Phase rate of the quick preset, one knob at the paper's value", "",
+             f"Command: `python validation/shear_knobs.py --seeds {' '.join(map(str, seeds))} "
+             f"--knobs {' '.join(knobs)}{' --no-run' if no_run else ''}`"
+             + (f" ({minutes:.0f} min of runs this time, one core; cached runs reused)"
+                if minutes is not None else "")
+             + ". Phases per output step in the window from 2.2 % strain; paper 0.323 "
+             "(~42,000 in ~130,000).", "",
+             "| knob at the paper's value | phases per step, per seed | mean | seed spread |",
+             "|---|---|---|---|"]
+    for knob, per in table.items():
+        rates = [x["rate"] for x in per.values()]
+        lines.append(f"| {KNOBS[knob][1]} | {', '.join(f'{r:.3f}' for r in rates)} | "
+                     f"{statistics.mean(rates):.3f} | {min(rates):.3f}-{max(rates):.3f} |")
+    paper = HERE / "shear_paper.json"
+    if paper.exists():
+        doc = json.loads(paper.read_text())
+        by = {r["every"]: r for r in doc.get("frame_interval", [])}
+        if 1 in by and 14 in by:
+            lines.append(f"| frame interval 7.2e-7 (quick 1e-5), the paper-preset run itself "
+                         f"({'complete' if doc['complete'] else 'partial, to strain %.3f' % doc['strain_reached']}; "
+                         "`validation/shear_paper.md` names its revision) "
+                         f"| every frame {by[1]['per_step']:.3f}; every 14th (1.0e-5) "
+                         f"{by[14]['per_step']:.3f} | - | one trajectory |")
+    Path(md).write_text("\n".join(lines) + "\n")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
@@ -62,39 +110,9 @@ def main(argv=None):
     ap.add_argument("--no-run", action="store_true",
                     help="tabulate the cached runs of these knobs and seeds only (start none)")
     ns = ap.parse_args(argv)
-    rows, total = [], 0.0
-    for knob in ns.knobs:
-        rates = []
-        for seed in ns.seeds:
-            r, sec = rate(knob, seed, ns.cache, not ns.no_run)
-            if r is None:
-                continue
-            total += sec
-            rates.append(r)
-            print(f"{knob} seed {seed}: {r:.3f} phases per step ({sec:.0f} s)", flush=True)
-        if rates:
-            rows.append((knob, rates))
-    lines = ["# Phase rate of the quick preset, one knob at the paper's value", "",
-             f"Command: `python validation/shear_knobs.py --seeds {' '.join(map(str, ns.seeds))} "
-             f"--knobs {' '.join(ns.knobs)}{' --no-run' if ns.no_run else ''}` "
-             f"({total / 60:.0f} min of runs this time, one core; cached runs reused). "
-             "Phases per output step in the window from 2.2 % strain; paper 0.323 "
-             "(~42,000 in ~130,000).", "",
-             "| knob at the paper's value | phases per step, per seed | mean | seed spread |",
-             "|---|---|---|---|"]
-    for knob, rates in rows:
-        lines.append(f"| {KNOBS[knob][1]} | {', '.join(f'{r:.3f}' for r in rates)} | "
-                     f"{statistics.mean(rates):.3f} | {min(rates):.3f}-{max(rates):.3f} |")
-    paper = HERE / "shear_paper.json"
-    if paper.exists():
-        doc = json.loads(paper.read_text())
-        by = {r["every"]: r for r in doc.get("frame_interval", [])}
-        if 1 in by and 14 in by:
-            lines.append(f"| frame interval 7.2e-7 (quick 1e-5), the paper-preset run itself "
-                         f"({'complete' if doc['complete'] else 'partial, to strain %.3f' % doc['strain_reached']}) "
-                         f"| every frame {by[1]['per_step']:.3f}; every 14th (1.0e-5) "
-                         f"{by[14]['per_step']:.3f} | - | one trajectory |")
-    ns.md.write_text("\n".join(lines) + "\n")
+    table = runs(ns.knobs, ns.seeds, ns.cache, not ns.no_run,
+                 log=lambda m: print(m, flush=True))
+    write(table, ns.seeds, ns.knobs, ns.md, ns.no_run, runs.seconds / 60)
     print(f"wrote {ns.md}")
     return 0
 

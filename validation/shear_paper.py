@@ -162,6 +162,29 @@ def run_wall(shear, prep):
     return text
 
 
+def revisions(run, an_dir):
+    """Which code made these numbers: the git revision recorded by the process that finished
+    the run (``shear.json``), by the analysis (``analysis.json``), and of this checkout."""
+    import subprocess
+
+    def rev(path):
+        try:
+            g = json.loads(Path(path).read_text()).get("git") or {}
+        except (OSError, ValueError):
+            return "not recorded"
+        return (g.get("revision") or "not recorded")[:7] + ("+" if g.get("dirty") else "")
+    try:
+        here = subprocess.run(["git", "-C", str(HERE), "rev-parse", "--short=7", "HEAD"],
+                              capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        here = "unknown"
+    return (f"Revisions: the run finished at {rev(run / 'shear.json')}, analysed at "
+            f"{rev(an_dir / 'analysis.json')}, this page written at {here} (`+`: a dirty "
+            "tree). A run resumed from checkpoints is bit-identical to one made in one go; the "
+            "numbers below are not regenerated when the code changes: `python "
+            "validation/reproduce.py --claim shear.paper_rate` (hours) reruns everything.")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run", type=Path, help="the run directory (fricstab shear run --preset paper)")
@@ -236,12 +259,13 @@ def main(argv=None):
         f"--out RUN{'' if complete else ' --partial DIR2'}`, `python validation/shear_paper.py "
         f"RUN{'' if complete else ' --analysis DIR2'}`. 1,000 bulk disks (+ 67 wall disks), "
         "I = 4e-6, kappa = 1e4, mu_s = 0.7, mu_r = 0.01, frames 7.2e-7 of strain apart.", "",
+        revisions(run, an_dir), "",
         "| quantity | this run |", "|---|---|", *(f"| {a} | {b} |" for a, b in rows), "",
         "## The frame interval: why the quick preset counts fewer phases per step", "",
         "The same trajectory with every k-th frame kept (one knob varied alone; k = 14 is the "
         f"quick preset's 1.0e-5). Quick preset (dgamma 1e-5, I 1e-4, kappa 1e3, 300 disks): "
-        f"{quick['phases_per_step']:.3f} phases per step (seed 0; seeds 0-9 span 0.128-0.223, "
-        "validation/RESULTS.md).", "",
+        f"{quick['phases_per_step']:.3f} phases per step (seed 0, `validation/shear_quick.json`; "
+        "its seed spread: `validation/shear_knobs.md`).", "",
         "| every k-th frame | dgamma | output steps | phases | phases per step |",
         "|---|---|---|---|---|",
         *(f"| {r['every']} | {r['dgamma']:.2e} | {r['steps']} | {r['phases']} | "

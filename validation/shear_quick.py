@@ -12,9 +12,14 @@ the Jacobian spectrum before every slip (:mod:`fricstab.analysis.shear_slips`),
 adding the phase statistics, the slip-spectrum statistics and the Spearman
 tables to the markdown.
 
-Usage: ``python validation/shear_quick.py [OUT_DIR] [--reuse]`` (default: a
-temporary folder; the run's files stay there; ``--reuse`` analyses an existing
-run of the same parameters in OUT_DIR instead of running again).
+The spectra come from the soft route by default (the k = 50 softest
+eigenvalues, as ``fricstab shear analyze``); ``--spectra dense`` takes the
+whole spectrum before every slip (~20x slower).  :func:`report` returns the
+numbers the claims ``shear.quick_*`` of ``validation/reproduce.py`` record.
+
+Usage: ``python validation/shear_quick.py [OUT_DIR] [--reuse] [--spectra soft|dense]``
+(default: a temporary folder; the run's files stay there; ``--reuse`` analyses
+an existing run of the same parameters in OUT_DIR instead of running again).
 """
 
 import json
@@ -32,7 +37,15 @@ PAPER_PHASES_PER_STEP = 42_000 / 130_000
 
 
 def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_quick.png",
-         reuse=False):
+         reuse=False, spectra="soft"):
+    """Run (or reuse) the quick preset, analyse it, write ``md``, ``png`` and the JSON; the record."""
+    return report(out, params, md, png, reuse, spectra)["record"]
+
+
+def report(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_quick.png",
+           reuse=False, spectra="soft"):
+    """What :func:`main` does; returns ``record`` (shear.json), ``analysis``
+    (``ShearAnalysis.to_json()``), ``spectra`` (the slip-spectra summary), ``rows``."""
     from fricstab.cli.shear import resolve_params, run_shear
     out = Path(out or tempfile.mkdtemp(prefix="shear_quick_"))
     p = resolve_params(None, "quick", params or {})
@@ -46,7 +59,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
         rec = run_shear(p, out, force=True, argv=["validation/shear_quick.py"])
         wall = time.perf_counter() - t0
     t1 = time.perf_counter()
-    an = _analyze(out, p)
+    an = _analyze(out, p, spectra)
     t_an = time.perf_counter() - t1
     ph, sv, d = rec["phases"], rec["servo"], rec["derived"]
     thr = rec["throughput_particle_steps_per_s"]
@@ -63,7 +76,11 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     lines = [
         "# Plane shear, quick default: stick-slip (Lee & Hurley Sec. 3)", "",
         "Command: `python validation/shear_quick.py` (= `fricstab shear run --out DIR`, "
-        "preset quick). Wall times: 2-core AMD EPYC, no other job running (rerun the script to measure yours).", "",
+        "preset quick; then `fricstab shear analyze`"
+        f"{' --spectra dense' if spectra == 'dense' else ''}). Regenerated with its record "
+        "by `python validation/reproduce.py --claim shear.quick_rate` (the record names the "
+        "revision, machine and seeds). Wall times are those of the run that wrote this page, "
+        "on a machine that may have run other jobs beside it.", "",
         "| quantity | this run | paper (mu_s = 0.7) |", "|---|---|---|",
         f"| bulk disks | {d['n_bulk']} | ~1,000 |",
         f"| I, kappa | {p['inertial_number']:g}, {p['kappa']:g} | 4e-6, 1e4 |",
@@ -83,7 +100,7 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
         "output steps; compare the rate per output step. ", "",
         "## Analysis (`fricstab shear analyze`) and the Jacobian before every slip", "",
         f"Analysis of the same run: {t_an:.0f} s (D2min, GR regions, phases, Spearman; then "
-        f"one dense spectrum per slip).", "",
+        f"the spectrum before every slip: {an['scope']}).", "",
         "| quantity | this run |", "|---|---|",
         *(f"| {k} | {v} |" for k, v in an["rows"]), "", an["tables"],
     ]
@@ -92,18 +109,19 @@ def main(out=None, params=None, md=HERE / "shear_quick.md", png=HERE / "shear_qu
     (md.with_suffix(".json")).write_text(json.dumps({"phases": ph, "servo": sv,
                                                      "wall_s": wall, "throughput": thr,
                                                      "paper_hours": paper_hours}, indent=1))
-    return rec
+    return {"record": rec, "analysis": an["analysis"], "spectra": an["spectra"],
+            "rows": an["rows"]}
 
 
-def _analyze(out, p):
+def _analyze(out, p, route="soft"):
     """Lee & Hurley analyses of the run and the spectrum before each slip (rows, markdown)."""
     from fricstab.analysis.shear import analyze, tables_markdown
     from fricstab.cli.shear_analyze import frames_of
     from fricstab.analysis.shear_slips import slip_spectra
     frames = frames_of(out)
     res = analyze(frames, p["gamma0"], progress=False)
-    # whole-spectrum pair counts, as the RESULTS row reports them (not the soft default)
-    sp = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], p, route="dense")
+    # the soft end (default, as `fricstab shear analyze`) or the whole spectrum (dense)
+    sp = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], p, route=route)
     s, c = res.summary, sp.summary()
     corr = c["correlations_with_following_dtau_p"]["all"]
 
@@ -114,7 +132,9 @@ def _analyze(out, p):
             ("median / mean abs Delta tau_p of slips",
              f"{s['slip_abs_dtau_median']:.2e} / {s['slip_abs_dtau_mean']:.2e}"),
             ("slips with a spectrum (every slip)", f"{c['n_slips']} of {s['n_slip']}"),
-            ("slips whose stick state has complex pairs", f"{c['slips_with_complex_pairs']}"),
+            ("slips whose stick state has complex pairs"
+             + (" among its 50 softest modes" if route == "soft" else ""),
+             f"{c['slips_with_complex_pairs']}"),
             ("complex pairs per state: median / max",
              f"{int(np.median(sp.n_complex_pairs))} / {c['n_complex_pairs_max']}"),
             ("contacts on the slide branch per state: tangential / rolling (median)",
@@ -130,10 +150,19 @@ def _analyze(out, p):
                               "short phases (Fig. 10b)": t["phase_short"],
                               "Delta tau_p - t_p (Fig. 10c)": t["phase_tp"]},
                              "Spearman tables (struck through: p > 0.05)")
-    return {"rows": rows, "tables": tables}
+    c = {**c, "n_complex_pairs_median": float(np.median(sp.n_complex_pairs)),
+         "n_sliding_median": float(np.median(sp.n_sliding)),
+         "n_rolling_median": float(np.median(sp.n_rolling))}
+    return {"rows": rows, "tables": tables, "analysis": res.to_json(), "spectra": c,
+            "scope": c["statistics_over"]}
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if a != "--reuse"]
-    main(args[0] if args else None, reuse="--reuse" in sys.argv[1:])
+    import argparse
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out", nargs="?", default=None)
+    ap.add_argument("--reuse", action="store_true")
+    ap.add_argument("--spectra", choices=("soft", "dense"), default="soft")
+    ns = ap.parse_args()
+    main(ns.out, reuse=ns.reuse, spectra=ns.spectra)
     print((HERE / "shear_quick.md").read_text())

@@ -7,6 +7,9 @@ then :func:`fricstab.analysis.shear.analyze` on its frames.  Writes
 18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 steps, and the
 long-phase Spearman coefficients of dtau_p with mg10 per bin).  Slow (about
 four quick runs plus their analyses): ``python validation/shear_sweep.py [DIR]``.
+The claims ``shear.sweep_*`` of ``validation/reproduce.py`` run :func:`sweep`
+(in-process, ``scheduler="inline"``) and :func:`report`, which writes the
+page and returns its numbers.
 """
 
 import json
@@ -16,36 +19,66 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # run from anywhere without installing
 PAPER = {0.1: 18_000, 0.3: 46_000, 0.5: 52_000, 0.7: 42_000}
+#: the Spearman series :func:`report` returns (Figs. 13 a, b, c, f, g)
+USED = {"step_dtau": ("g10",), "phase_all": ("mg10", "sg10"), "phase_long": ("mg10", "sg10")}
 
 
 def member(mu_s, out):
     """One sweep member: run, analyze; returns scalars and the Spearman table (JSON)."""
-    import numpy as np
-
     from fricstab.analysis.shear import analyze
     from fricstab.cli.shear import resolve_params, run_shear
     from fricstab.cli.shear_analyze import frames_of
     p = resolve_params(None, "quick", {"mus": mu_s})
     rec = run_shear(p, out, force=True, log=lambda *a: None)
     res = analyze(frames_of(out), p["gamma0"], progress=False)
+    return as_member(rec, res.to_json())
+
+
+def as_member(rec, analysis_json):
+    """A sweep member's arrays from a run record and its analysis (``ShearAnalysis.to_json()``)."""
+    import numpy as np
     return {"phases_per_step": np.float64(rec["phases"]["phases_per_step"]),
             "n_phases": np.int64(rec["phases"]["n_phases"]),
-            "tables": np.array(json.dumps(res.to_json(), default=float))}
+            "window_steps": np.int64(rec["phases"]["window_steps"]),
+            "tables": np.array(json.dumps(analysis_json, default=float))}
+
+
+def sweep(out, scheduler="local", workers=2, progress=True, given=None):
+    """Run (or take from ``out``) every member; ``given``: {mu_s: member arrays} already made
+    (the quick run is the member at mu_s = 0.7).  Returns {"mu<m>": member arrays}."""
+    from fricstab.io.ensemble import run_ensemble
+    given = {f"mu{m:g}": v for m, v in (given or {}).items()}
+    out = Path(out)
+    jobs = {f"mu{m:g}": dict(mu_s=m, out=str(out / f"mu{m:g}")) for m in PAPER
+            if f"mu{m:g}" not in given}
+    res = run_ensemble(member, jobs, out, scheduler=scheduler, workers=workers,
+                       progress=progress) if jobs else {}
+    return {**res, **given}
 
 
 def main(out=None):
-    from fricstab.io.ensemble import run_ensemble
+    res = sweep(out or HERE / ".shear_sweep")
+    report(res)
+    return res
+
+
+def report(res, md=HERE / "shear_sweep.md"):
+    """Write ``md`` and the Fig. 13 c, g figures from the members; returns the numbers:
+    per mu_s the phase count, steps and rate, and the Spearman tables (a), (c), (g)."""
     from fricstab.analysis.shear import tables_markdown
-    out = Path(out or HERE / ".shear_sweep")
-    jobs = {f"mu{m:g}": dict(mu_s=m, out=str(out / f"mu{m:g}")) for m in PAPER}
-    res = run_ensemble(member, jobs, out, scheduler="local", workers=2, progress=True)
     lines = ["# Plane shear: friction sweep (Lee & Hurley Sec. 4, quick preset)", "",
-             "| mu_s | phases | phases per output step | paper phases per step |",
-             "|---|---|---|---|"]
+             "Command: `python validation/shear_sweep.py` (one quick-preset run per mu_s, "
+             "seed 0; the run at mu_s = 0.7 is the quick preset itself). Regenerated with "
+             "its record by `python validation/reproduce.py --claim shear.sweep_rate`.", "",
+             "| mu_s | phases | output steps | phases per output step | paper phases per step |",
+             "|---|---|---|---|---|"]
+    steps = {m: int(r["window_steps"]) if "window_steps" in r else   # members stored before
+             round(int(r["n_phases"]) / float(r["phases_per_step"]))  # it was kept
+             for m, r in ((m, res[f"mu{m:g}"]) for m in PAPER)}
     for m in PAPER:
         r = res[f"mu{m:g}"]
-        lines.append(f"| {m:g} | {int(r['n_phases'])} | {float(r['phases_per_step']):.3f} | "
-                     f"{PAPER[m] / 130_000:.3f} |")
+        lines.append(f"| {m:g} | {int(r['n_phases'])} | {steps[m]} | "
+                     f"{float(r['phases_per_step']):.3f} | {PAPER[m] / 130_000:.3f} |")
     lines += ["", "Spearman rho (p, n) of Delta tau_p per bin (Lee & Hurley Figs. 13 b, c, f, g "
               "and a: rows are mu_s); struck through: p > 0.05, which the paper omits.", ""]
     tables = {m: json.loads(str(res[f"mu{m:g}"]["tables"]))["tables"] for m in PAPER}
@@ -62,11 +95,16 @@ def main(out=None):
             ("c", "phase_long", "mg10", "Delta tau_p - mg_t10% D2min, long phases (Fig. 13c)"),
             ("g", "phase_long", "sg10", "Delta tau_p - sg_t10% D2min, long phases (Fig. 13g)")):
         sf.fig_spearman_bins({f"mu_s = {m:g}": tables[m][section][series] for m in PAPER},
-                             HERE / f"shear_sweep_fig13{tag}.png", title)
+                             Path(md).parent / f"shear_sweep_fig13{tag}.png", title)
     lines += ["", "Figures: `shear_sweep_fig13c.png`, `shear_sweep_fig13g.png` (abs rho per "
               "bin, only p <= 0.05 drawn)."]
-    (HERE / "shear_sweep.md").write_text("\n".join(lines) + "\n")
-    return res
+    Path(md).write_text("\n".join(lines) + "\n")
+    return {f"{m:g}": {"phases": int(res[f"mu{m:g}"]["n_phases"]),
+                       "steps": steps[m],
+                       "rate": float(res[f"mu{m:g}"]["phases_per_step"]),
+                       "tables": {t: {s: tables[m][t][s] for s in series}
+                                  for t, series in USED.items()}}
+            for m in PAPER}
 
 
 if __name__ == "__main__":

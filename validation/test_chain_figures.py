@@ -1,11 +1,16 @@
 """Quick tier (CI) of Charan et al. Figs. 2-7 with the default protocol.
 
-Full tier, with its run times: `python validation/chain_waves.py` (Fig. 5,
-~60 s), `python validation/chain_protocols.py` (Fig. 2 under protocol
-variants, ~150 s), `fricstab chain ramp` / `fricstab chain dynamics` for the
-figures themselves (seconds).  Each assertion states the paper's claim and
+Full tier: `python validation/chain_waves.py` (Fig. 5) and
+`python validation/chain_protocols.py` (Fig. 2 under protocol variants), both
+recorded as claims (`python validation/reproduce.py --claim chain.v1
+chain.protocol_damped`; their run times are in their records);
+`fricstab chain ramp` / `fricstab chain dynamics` for the figures themselves
+(seconds).  Each assertion states the paper's claim and
 the tolerance.
 """
+
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,10 +27,10 @@ SCENE = ChainScene()
 UNIT = time_unit(SCENE)
 
 
-def _run(fx, duration, seed=0):
+def _run(fx, duration, seed=0, frames=4000):
     eq = ramped_equilibrium(SCENE, fx)
     start = perturbed(SCENE, eq, 1e-9, np.random.default_rng(seed))
-    return run_dynamics(SCENE.with_fx(fx), start, duration=duration * UNIT, frames=4000)
+    return run_dynamics(SCENE.with_fx(fx), start, duration=duration * UNIT, frames=frames)
 
 
 def test_fig2_pairs_at_the_papers_forces():
@@ -62,27 +67,39 @@ def test_fig3_4_7_transition_to_sliding_at_0_083():
 
     Every disk's wall contact reaches the Coulomb limit within 40,000 time
     units, and the centre of mass then moves forward by more than 0.1 (2R).
+    A breach is seen only at a recorded frame (first_breach), so the frames
+    are 5 time units apart, as in the default `fricstab chain dynamics` run
+    (claim chain.fig3_0083): at 10 apart one disk's brief touches of the
+    limit all fall between frames.
     """
-    r = _run(0.083, 40000.0)
+    r = _run(0.083, 40000.0, frames=8000)
     tau, _ = first_breach(SCENE.with_fx(0.083), r.times, r.positions, r.wall_hist)
     assert np.all(np.isfinite(tau))
     com = centre_of_mass(r.positions)[:, 0]
     assert com[-1] - com[0] > 0.1
 
 
+def _recorded_wave_row(fx):
+    """The full tier's row at ``fx`` as recorded (validation/records/chain.waves.json)."""
+    rec = json.loads((Path(__file__).resolve().parent / "records" / "chain.waves.json").read_text())
+    return next(r for r in rec["values"]["rows"] if abs(r["fx"] - fx) < 1e-9)
+
+
 def test_fig5_wave_speeds_agree_with_the_full_tier():
     """V1 at F_x = 0.09 from 10 realizations against the full tier (25).
 
-    Full tier (validation/chain_waves.md): V1 = 0.00239 +- 0.00038.
-    Statistical tolerance: 3 combined standard errors (this tier's bootstrap
-    error and the full tier's).  V2 scatters more than its bootstrap error
-    between disjoint sets of 10 realizations (0.050 to 0.135), so only its sign
+    Full tier: the recorded claim chain.v1 (``python validation/reproduce.py
+    --claim chain.v1``, which runs validation/chain_waves.py).  Statistical
+    tolerance: 3 combined standard errors (this tier's bootstrap error and the
+    full tier's).  V2 scatters more than its bootstrap error between disjoint
+    sets of realizations (the split error of chain_waves.md), so only its sign
     is checked here: the backward wave starts at the last disk.
     """
+    full = _recorded_wave_row(0.09)
     eq = ramped_equilibrium(SCENE, 0.09)
     reals = [run_realization(SCENE.with_fx(0.09), eq, seed) for seed in range(10)]
     fit = fit_waves(reals, n_boot=200)
-    assert abs(fit.v1 - 0.00239) < 3 * np.hypot(fit.v1_err, 0.00038)
+    assert abs(fit.v1 - full["v1"]) < 3 * np.hypot(fit.v1_err, full["v1_err"])
     assert fit.v2 > 0
 
 

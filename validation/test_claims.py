@@ -106,7 +106,7 @@ def test_changing_a_dependency_marks_the_claim_stale(tmp_path):
     path.write_text(text)
     own = tmp_path / fp["claim"]["module"]
     src = own.read_text()
-    name = fp["claim"]["names"][-1]
+    name = JOBS[job][0].compute.__name__
     own.write_text(src.replace(f"def {name}(", f"def {name}(_unused=None, ", 1))
     assert any(fp["claim"]["module"] in c for c in changes(fp, root=tmp_path))
 

@@ -1,0 +1,63 @@
+"""The report functions of the plane-shear validation scripts on synthetic inputs (no runs).
+
+``shear_sweep.report`` and ``shear_knobs.write`` are what the claims of
+``validation/claims/shear.py`` call after their runs; here they get members and
+tables made up for the test, so that a change of their format fails in seconds.
+"""
+
+import json
+import sys
+from pathlib import Path
+
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import shear_knobs  # noqa: E402
+import shear_sweep  # noqa: E402
+
+BINS = ((-1e-1, -1e-2), (-1e-2, -1e-3), (-1e-3, -1e-4), (-1e-4, 0.0),
+        (0.0, 1e-4), (1e-4, 1e-3), (1e-3, 1e-2), (1e-2, 1e-1))
+
+
+def _cells(rho):
+    return [{"lo": lo, "hi": hi, "n": 20, "rho": rho, "p": 0.01, "significant": True,
+             "status": "ok"} for lo, hi in BINS]
+
+
+def _member(rate, steps, rho):
+    tables = {t: {s: _cells(rho) for s in series} for t, series in shear_sweep.USED.items()}
+    rec = {"phases": {"phases_per_step": rate, "n_phases": round(rate * steps),
+                      "window_steps": steps}}
+    return shear_sweep.as_member(rec, {"summary": {}, "tables": tables})
+
+
+def test_sweep_report_writes_the_page_and_returns_its_numbers(tmp_path):
+    res = {f"mu{m:g}": _member(0.1 * (k + 1), 1000, 0.5) for k, m in enumerate(shear_sweep.PAPER)}
+    md = tmp_path / "sweep.md"
+    out = shear_sweep.report(res, md)
+    assert set(out) == {f"{m:g}" for m in shear_sweep.PAPER}
+    assert out["0.7"]["rate"] == 0.4 and out["0.7"]["steps"] == 1000
+    assert out["0.1"]["tables"]["phase_long"]["mg10"][0]["rho"] == 0.5
+    text = md.read_text()
+    assert "| 0.7 | 400 | 1000 | 0.400 | 0.323 |" in text
+    assert (tmp_path / "shear_sweep_fig13c.png").stat().st_size > 1000
+    json.dumps(out)
+
+
+def test_sweep_report_reads_members_stored_without_their_step_count(tmp_path):
+    res = {f"mu{m:g}": _member(0.25, 800, 0.3) for m in shear_sweep.PAPER}
+    for r in res.values():
+        del r["window_steps"]
+    out = shear_sweep.report(res, tmp_path / "sweep.md")
+    assert all(x["steps"] == 800 for x in out.values())
+
+
+def test_knobs_write_tabulates_every_seed(tmp_path):
+    table = {"base": {"0": {"rate": 0.128}, "1": {"rate": 0.148}, "2": {"rate": 0.203}},
+             "kappa": {"0": {"rate": 0.362}}}
+    md = tmp_path / "knobs.md"
+    shear_knobs.write(table, (0, 1, 2), ("base", "kappa"), md)
+    text = md.read_text()
+    assert "| the quick preset | 0.128, 0.148, 0.203 | 0.160 | 0.128-0.203 |" in text
+    assert "| kappa = 1e4 (quick 1e3) | 0.362 | 0.362 | 0.362-0.362 |" in text
