@@ -202,11 +202,15 @@ def main(argv=None):
     if ns.claim or ns.tier or ns.resume:
         selected = [] if ns.resume else _select(ns)
         moved, failed = regenerate(selected, resume=ns.resume)
-        try:
-            changed = render.write()
-        except Exception as exc:     # noqa: BLE001 - a section being edited; the records stand
-            changed = []
-            print(f"reproduce: RESULTS.md not rewritten ({type(exc).__name__}: {exc}); "
+        # rendered in a fresh process: a long run must not write the pages with the
+        # section modules it imported hours ago (claims since edited)
+        import subprocess
+        r = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--write"],
+                           capture_output=True, text=True)
+        changed = [Path(x.split(" ", 1)[1]) for x in r.stdout.splitlines()
+                   if x.startswith("wrote ")]
+        if r.returncode != 0:
+            print(f"reproduce: RESULTS.md not rewritten ({r.stderr.strip().splitlines()[-1:]}); "
                   "run --write when every section imports", file=sys.stderr)
         for m in moved:
             print(f"moved: {m}")
