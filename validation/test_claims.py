@@ -71,7 +71,8 @@ def test_every_verdict_is_computed():
 # ------------------------------------------------------------ the checks can fail
 
 def _copy_tree(fp, tmp):
-    for rel in list(fp["modules"]) + [fp["claim"]["module"]] + list(fp["inputs"]):
+    for rel in (list(fp["modules"]) + list(fp.get("functions", {})) + [fp["claim"]["module"]]
+                + list(fp["inputs"])):
         dst = tmp / rel
         dst.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / rel, dst)
@@ -150,3 +151,131 @@ def test_source_hash_ignores_docstrings_not_code():
     a = 'def f(x):\n    """Doc."""\n    return x + 1\n'
     assert source_hash(a) == source_hash(a.replace("Doc.", "Other doc.") + "# comment\n")
     assert source_hash(a) != source_hash(a.replace("x + 1", "x + 2"))
+
+
+# ---------------------------------------------------------------- function-level fingerprints
+
+_DEMO = """
+import math
+
+SCALE = 2.0
+
+
+def used(x):
+    return helper(x) * SCALE
+
+
+def helper(x):
+    return math.sqrt(x)
+
+
+def unused(x):
+    return -x
+
+
+class Box:
+    size = 3
+
+    def area(self):
+        return self.size ** 2
+
+    def volume(self):
+        return self.size ** 3
+"""
+
+_SECTION = """
+def compute():
+    import _fp_demo
+    return _fp_demo.used(4.0) + _fp_demo.Box().area()
+"""
+
+
+def _demo_fingerprint(tmp_path, spawn=False):
+    """A module and a section module under a scratch checkout, a claim computed under
+    the tracer, and its fingerprint."""
+    import importlib
+
+    from claims.core import Claim
+    from claims.fingerprint import Tracer, fingerprint
+    (tmp_path / "validation" / "claims").mkdir(parents=True)
+    (tmp_path / "validation" / "_fp_demo.py").write_text(_DEMO)
+    (tmp_path / "validation" / "claims" / "fp_section.py").write_text(_SECTION)
+    sys.path.insert(0, str(tmp_path / "validation"))
+    sys.path.insert(0, str(tmp_path / "validation" / "claims"))
+    try:
+        for m in ("_fp_demo", "fp_section"):
+            sys.modules.pop(m, None)
+        section = importlib.import_module("fp_section")
+        claim = Claim("demo.x", "demo", "x", "minutes", "x", section.compute, str, "t",
+                      lambda a, b: (True, ""))
+        with Tracer() as tracer:
+            claim.compute()
+            if spawn:
+                import subprocess
+                subprocess.run([sys.executable, "-c", "pass"], check=True)
+        return fingerprint(claim, root=tmp_path, tracer=tracer)
+    finally:
+        sys.path.remove(str(tmp_path / "validation"))
+        sys.path.remove(str(tmp_path / "validation" / "claims"))
+        for m in ("_fp_demo", "fp_section"):
+            sys.modules.pop(m, None)
+
+
+def _edit(path, old, new):
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+    return text
+
+
+@pytest.mark.parametrize("old, new, stale", [
+    # a function that ran, or one it called: stale, named
+    ("return math.sqrt(x)", "return math.sqrt(x) + 0", "helper"),
+    ("return helper(x) * SCALE", "return helper(x) * SCALE * 1", "used"),
+    ("return self.size ** 2", "return self.size * self.size", "Box.area"),
+    # what runs at import: stale
+    ("SCALE = 2.0", "SCALE = 2.5", "<frame>"),
+    ("import math", "import math, cmath", "<frame>"),
+    ("    size = 3", "    size = 4", "<frame>"),
+    # a new method could override one that ran (a dataclass hook, say): stale
+    ("    def volume(self):", "    def __eq__(self, o):\n        return False\n\n"
+                             "    def volume(self):", "<frame>"),
+    # a new function that shadows a binding: stale
+    ("def unused(x):", "def math(x):\n    return x\n\n\ndef unused(x):", "<frame>"),
+    # a function that did not run, edited or added, a method that did not run: fresh
+    ("return -x", "return x", None),
+    ("def unused(x):", "def added(y):\n    return y\n\n\ndef unused(x):", None),
+    ("return self.size ** 3", "return 0", None),
+])
+def test_function_level_fingerprint(tmp_path, old, new, stale):
+    fp = _demo_fingerprint(tmp_path)
+    mod = "validation/_fp_demo.py"
+    assert set(fp["functions"][mod]) == {"<frame>", "used", "helper", "Box.area"}
+    assert changes(fp, root=tmp_path) == []
+    _edit(tmp_path / mod, old, new)
+    ch = changes(fp, root=tmp_path)
+    if stale is None:
+        assert ch == []
+    else:
+        assert len(ch) == 1 and ch[0].startswith(mod) and stale in ch[0], ch
+
+
+def test_a_computation_that_starts_a_process_counts_modules_whole(tmp_path):
+    fp = _demo_fingerprint(tmp_path, spawn=True)
+    assert "functions" not in fp and "validation/_fp_demo.py" in fp["modules"]
+    _edit(tmp_path / "validation" / "_fp_demo.py", "return -x", "return x")
+    assert changes(fp, root=tmp_path) == ["validation/_fp_demo.py"]
+
+
+def test_numba_modules_and_tests_count_whole():
+    from claims.fingerprint import whole_module
+    assert whole_module("fricstab/x.py", "from numba import njit\n")
+    assert whole_module("fricstab/x.py", "from .._numba import njit\n")
+    assert whole_module("tests/test_x.py", "") and whole_module("validation/test_x.py", "")
+    assert not whole_module("fricstab/cli/x.py", "import numpy as np\n")
+    # every numba module of the package is hashed whole in a recorded fingerprint
+    for job in JOBS:
+        rec = records.load(job)
+        if rec is not None and "functions" in rec["fingerprint"]:
+            for m in rec["fingerprint"]["functions"]:
+                assert not whole_module(m, (ROOT / m).read_text()), (job, m)

@@ -775,7 +775,7 @@ CLAIMS = [
                               and same(keys=["first_pair_newton", "first_pair_damped"])(a, b)[0],
                               f"{a['speedup']:.0f}x -> {b['speedup']:.0f}x"),
           verdict=lambda v: floor_verdict(v["speedup"], 100, "speed ratio (issue: >= 100x)"),
-          job="chain.solvers",
+          job="chain.solvers", trace=False,
           texts={"doc": lambda v: (
               f"Newton was {v['speedup']:.0f}x faster in the recorded run "
               f"({v['seconds_newton']:.3f} s against {v['seconds_damped']:.1f} s). The two "

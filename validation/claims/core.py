@@ -74,6 +74,8 @@ class Claim:
     texts: dict = field(default_factory=dict)   # key -> (values -> str), for blocks in other pages
     job: str = None           # claims that share one computation share a job (and a record);
                               # default: the claim's own name
+    trace: bool = True        # False: values are timings, so the job runs untraced and its
+                              # fingerprint counts every loaded module whole (fingerprint.py)
 
     def __post_init__(self):
         if self.tier not in TIERS:

@@ -1,32 +1,56 @@
 """Which code a claim's values depend on, as hashes that change when that code changes.
 
 A claim is recomputed in a process of its own (``reproduce.py`` starts one
-per claim) that imports only the claim machinery and the claim's section
-module.  After ``compute`` returns, the dependence is read off that process:
+per job) that imports only the claim machinery and the claim's section
+module.  While ``compute`` runs, a :class:`Tracer` notes every Python
+function of the checkout (``fricstab/``, ``validation/``, ``tests/``) that
+starts running; after it returns, the dependence is read off that process:
 
-* every module of the checkout (``fricstab/``, ``validation/``, ``tests/``) in
-  ``sys.modules``: Python runs no code of a module it has not imported, and
-  numba compiles only functions of imported modules, so the set is a
-  superset of the code that ran (sound, and coarse: a module imported but
-  not used counts too).  The generated kernels are modules like any other;
-  ``codegen --check`` ties them to ``symbolic/``.
+* **functions**: for every module of the checkout in ``sys.modules``, the
+  hash of each top-level function or method that ran, or that numba
+  compiled (every live numba dispatcher's ``py_func``), and the hash of the
+  module's *frame*: everything at top level except the bodies of its
+  functions (imports, constants, class bodies, decorators, the names of
+  methods and of functions that shadow another binding).  A function that
+  did not run cannot have changed the values, so editing it, or adding a
+  new one, leaves the claim fresh; editing one that ran, or any statement
+  that runs at import, makes it stale.
+* **whole modules** where a function-level record would not be sound, each
+  hashed as a whole (as Python imported it):
+
+  - modules that use numba (they import from ``numba`` or ``fricstab._numba``):
+    a jitted function's Python body never runs, and numba inlines what it
+    calls; the generated kernels are such modules, and ``codegen --check``
+    ties them to ``symbolic/``;
+  - test modules (``tests/``, ``validation/test_*.py``, ``conftest.py``):
+    pytest finds tests by name, so a new test changes what runs;
+  - every module, when the computation started another process (``fork``,
+    ``subprocess``, ``multiprocessing``, dask workers): code run there is not
+    traced here;
+  - every module, for a claim that asks for it (``Claim.trace = False``, for
+    claims whose values are timings: tracing slows Python code down).
 * the claim's own ``compute`` and what it names in its section module
   (a static closure over the module's top-level definitions), so that
   adding a claim beside it does not mark it stale.
 * the data files the claim declares (``inputs``), by their bytes.
 
-A module's hash is that of its syntax tree with docstrings removed
-(``ast.dump``): comments, docstrings and formatting do not change what
-runs, so editing them does not make a claim stale.  Not covered, and said
-so in the docs: versions of NumPy, SciPy and numba (recorded with each
-value, not compared), and the machine.  Claims of the ``seconds`` tier are
-recomputed in CI, which covers those too for them.
+Hashes are of syntax trees with docstrings removed (``ast.dump``): comments,
+docstrings and formatting do not change what runs, so editing them does not
+make a claim stale.  Not covered, and said so in the docs: versions of
+NumPy, SciPy and numba (recorded with each value, not compared), the
+machine, and code reached in ways Python does not show as a call (a
+function looked up by a name built at run time, in a module whose frame did
+not change, that did not exist when the claim ran).  Claims of the
+``seconds`` tier are recomputed in CI, which covers those too for them.
 """
 
 import ast
+import gc
 import hashlib
 import inspect
+import os
 import sys
+import threading
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -36,6 +60,7 @@ WATCHED = ("fricstab", "validation", "tests")
 MACHINERY = {f"validation/claims/{m}.py" for m in
              ("__init__", "core", "fingerprint", "records", "render", "runner")}
 MACHINERY |= {"validation/reproduce.py"}
+FRAME = "<frame>"      # the key of a module's frame among its units
 
 
 def _strip_docstrings(tree):
@@ -48,10 +73,14 @@ def _strip_docstrings(tree):
     return tree
 
 
+def _digest(nodes):
+    text = "\n".join(ast.dump(n, include_attributes=False) for n in nodes)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
 def source_hash(text):
     """Hash of Python source: its syntax tree without docstrings."""
-    tree = _strip_docstrings(ast.parse(text))
-    return hashlib.sha256(ast.dump(tree, include_attributes=False).encode()).hexdigest()[:16]
+    return _digest([_strip_docstrings(ast.parse(text))])
 
 
 def module_hash(rel, root=ROOT):
@@ -70,25 +99,198 @@ def file_hash(rel, root=ROOT):
     return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
 
 
+# ------------------------------------------------------------------ function units
+
+_FUNCS = (ast.FunctionDef, ast.AsyncFunctionDef)
+
+
+def _bound_names(stmts):
+    """Names bound at this scope by statements other than function definitions."""
+    out = set()
+    for s in stmts:
+        if isinstance(s, _FUNCS):
+            continue
+        if isinstance(s, ast.ClassDef):
+            out.add(s.name)
+            continue
+        if isinstance(s, (ast.Import, ast.ImportFrom)):
+            out |= {(a.asname or a.name).split(".")[0] for a in s.names}
+            continue
+        for x in ast.walk(s):
+            if isinstance(x, ast.Name) and isinstance(x.ctx, ast.Store):
+                out.add(x.id)
+            elif isinstance(x, _FUNCS + (ast.ClassDef,)):
+                out.add(x.name)
+    return out
+
+
+def _stub(fn):
+    """What a definition contributes to the frame: its name and decorators."""
+    return ast.FunctionDef(name=fn.name, args=ast.arguments([], [], None, [], [], None, []),
+                           body=[ast.Pass()], decorator_list=fn.decorator_list, returns=None,
+                           type_comment=None)
+
+
+def _split(body, prefix, units, in_class):
+    """The frame of a scope (module or class body) and, into ``units``, its functions."""
+    names = [s.name for s in body if isinstance(s, _FUNCS)]
+    shadow = _bound_names(body) | {n for n in names if names.count(n) > 1}
+    frame = []
+    for s in body:
+        if isinstance(s, _FUNCS):
+            q = prefix + s.name
+            units.setdefault(q, []).append(s)
+            if in_class or s.decorator_list or s.name in shadow or s.name.startswith("__"):
+                frame.append(_stub(s))
+        elif isinstance(s, ast.ClassDef):
+            inner = _split(s.body, f"{prefix}{s.name}.", units, True)
+            frame.append(ast.ClassDef(name=s.name, bases=s.bases, keywords=s.keywords,
+                                      body=inner or [ast.Pass()],
+                                      decorator_list=s.decorator_list))
+        else:
+            frame.append(s)
+    return frame
+
+
+def unit_hashes(text):
+    """{FRAME: hash of the module's frame, qualname: hash of that function} for source text."""
+    tree = _strip_docstrings(ast.parse(text))
+    units = {}
+    frame = _split(tree.body, "", units, False)
+    out = {k: _digest(v) for k, v in units.items()}
+    out[FRAME] = _digest(frame)
+    return out
+
+
+def uses_numba(text):
+    """True if the module imports numba or the package's numba helpers."""
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Import) and any("numba" in a.name for a in node.names):
+            return True
+        if isinstance(node, ast.ImportFrom) and "numba" in (node.module or ""):
+            return True
+    return False
+
+
+def whole_module(rel, text):
+    """Modules hashed as a whole (see the module docstring): numba users and tests."""
+    name = Path(rel).name
+    return (rel.startswith("tests/") or name == "conftest.py"
+            or (rel.startswith("validation/") and name.startswith("test_"))
+            or uses_numba(text))
+
+
+def unit_of(qualname):
+    """The unit (top-level function or method qualname) a code object belongs to;
+    FRAME for module and class bodies and what runs at import."""
+    q = qualname.split(".<locals>")[0]
+    parts = [p for p in q.split(".") if not p.startswith("<")]
+    return ".".join(parts) if parts else FRAME
+
+
+class Tracer:
+    """Notes each Python code object that starts running (``sys.settrace`` and
+    ``threading.settrace``, 'call' events only), and whether another process was
+    started (``fork``, ``subprocess``, ``multiprocessing``, ``os.system``/``posix_spawn``)."""
+
+    def __init__(self):
+        self.codes = {}
+        self.spawned = False
+        self.active = False
+        self._saved = []
+
+    def _trace(self, frame, event, arg):
+        code = frame.f_code
+        self.codes[id(code)] = code
+        return None
+
+    def _flag(self, *a, **k):
+        if self.active:
+            self.spawned = True
+
+    def _wrap(self, owner, name):
+        orig = getattr(owner, name, None)
+        if orig is None:
+            return
+        tracer = self
+
+        def wrapped(*a, **k):
+            tracer._flag()
+            return orig(*a, **k)
+        self._saved.append((owner, name, orig))
+        setattr(owner, name, wrapped)
+
+    def __enter__(self):
+        import _posixsubprocess
+        import subprocess
+        self._wrap(_posixsubprocess, "fork_exec")          # multiprocessing's spawn
+        self._wrap(subprocess.Popen, "_execute_child")     # every subprocess
+        for name in ("system", "posix_spawn", "posix_spawnp", "spawnv", "spawnve"):
+            self._wrap(os, name)
+        os.register_at_fork(before=self._flag)   # cannot be removed: inactive after exit
+        self.active = True
+        self._old = sys.gettrace()
+        sys.settrace(self._trace)
+        threading.settrace(self._trace)
+        return self
+
+    def __exit__(self, *exc):
+        sys.settrace(self._old)
+        threading.settrace(None)
+        for owner, name, orig in reversed(self._saved):
+            setattr(owner, name, orig)
+        self._saved.clear()
+        self.active = False
+        return False
+
+
+def _rel(filename, root):
+    try:
+        return Path(filename).resolve().relative_to(root).as_posix()
+    except (ValueError, OSError):
+        return None
+
+
+def _watched(rel):
+    if rel is None or not rel.endswith(".py") or rel.split("/")[0] not in WATCHED \
+            or rel in MACHINERY:
+        return False
+    # a section module: its claim's closure is hashed instead
+    return not (rel.startswith("validation/claims/") and not Path(rel).name.startswith("_"))
+
+
 def loaded_modules(root=ROOT):
     """Modules of the checkout in ``sys.modules`` (paths relative to ``root``)."""
     root = Path(root).resolve()
     out = set()
     for mod in list(sys.modules.values()):
         f = getattr(mod, "__file__", None)
-        if not f or not f.endswith(".py"):
-            continue
-        try:
-            rel = Path(f).resolve().relative_to(root).as_posix()
-        except ValueError:
-            continue
-        if rel.split("/")[0] not in WATCHED or rel in MACHINERY:
-            continue
-        if rel.startswith("validation/claims/") and not Path(rel).name.startswith("_"):
-            continue      # a section module: its claim's closure is hashed instead
-        out.add(rel)
+        rel = _rel(f, root) if f else None
+        if _watched(rel):
+            out.add(rel)
     return out
 
+
+def ran_units(codes, root=ROOT):
+    """{module path: set of units} for the code objects that ran or that numba compiled."""
+    root = Path(root).resolve()
+    found = list(codes)
+    if "numba" in sys.modules:
+        from numba.core.dispatcher import Dispatcher
+        found += [o.py_func.__code__ for o in gc.get_objects()
+                  if isinstance(o, Dispatcher) and hasattr(o.py_func, "__code__")]
+    cache, out = {}, {}
+    for code in found:
+        f = code.co_filename
+        if f not in cache:
+            cache[f] = _rel(f, root)
+        rel = cache[f]
+        if _watched(rel):
+            out.setdefault(rel, set()).add(unit_of(code.co_qualname))
+    return out
+
+
+# ------------------------------------------------------------------ the claim's closure
 
 def closure_hash(func, root=ROOT):
     """Hash of ``func``'s definition and of every top-level definition of its module
@@ -148,20 +350,45 @@ def _top_level(text):
     return defs
 
 
-def fingerprint(claim, root=ROOT):
+# ------------------------------------------------------------------ record and compare
+
+def fingerprint(claim, root=ROOT, tracer=None):
     """The dependence of ``claim`` as recorded now (call after ``compute`` ran, in
-    the claim's own process)."""
+    the claim's own process; ``tracer`` is the :class:`Tracer` it ran under, None
+    for a claim that is not traced: then every loaded module counts whole)."""
     rel, names = closure(claim.compute, root)
-    return {
-        "modules": {m: module_hash(m, root) for m in sorted(loaded_modules(root))},
-        "claim": {"module": rel, "names": names, "hash": unit_hash(rel, names, root)},
-        "inputs": {f: file_hash(f, root) for f in claim.inputs},
-    }
+    whole, units = {}, {}
+    ran = ran_units(tracer.codes.values(), root) if tracer and not tracer.spawned else None
+    for m in sorted(loaded_modules(root)):
+        text = (Path(root) / m).read_text()
+        if ran is None or whole_module(m, text):
+            whole[m] = source_hash(text)
+            continue
+        hashes = unit_hashes(text)
+        # a unit that ran but is no top-level function (one defined inside an if, say):
+        # the frame holds it
+        units[m] = {u: hashes[u] for u in sorted(ran.get(m, set()) | {FRAME}) if u in hashes}
+    fp = {"modules": whole}
+    if ran is not None:
+        fp["functions"] = units
+    fp["claim"] = {"module": rel, "names": names, "hash": unit_hash(rel, names, root)}
+    fp["inputs"] = {f: file_hash(f, root) for f in claim.inputs}
+    return fp
 
 
 def changes(fp, root=ROOT):
-    """What changed since fingerprint ``fp`` was taken: a list of paths (empty: fresh)."""
+    """What changed since fingerprint ``fp`` was taken: a list of paths (empty: fresh);
+    a function-level change names the module and the functions."""
     out = [m for m, h in fp["modules"].items() if module_hash(m, root) != h]
+    for m, old in fp.get("functions", {}).items():
+        path = Path(root) / m
+        if not path.exists():
+            out.append(m)
+            continue
+        new = unit_hashes(path.read_text())
+        moved = [u for u, h in old.items() if new.get(u, "missing") != h]
+        if moved:
+            out.append(f"{m} ({', '.join(moved[:4])}{', ...' if len(moved) > 4 else ''})")
     c = fp["claim"]
     if unit_hash(c["module"], c["names"], root) != c["hash"]:
         out.append(f"{c['module']} ({', '.join(c['names'])})")

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from . import records
-from .fingerprint import ROOT, file_hash, fingerprint
+from .fingerprint import ROOT, Tracer, file_hash, fingerprint
 
 REPRODUCE = ROOT / "validation" / "reproduce.py"
 
@@ -39,8 +39,13 @@ def job_claims(job):
 def work(job):
     """Run in the job's own process: compute, fingerprint, write the record."""
     claims = job_claims(job)
+    tracer = Tracer() if all(c.trace for c in claims) else None
     t0 = time.perf_counter()
-    res = claims[0].compute()
+    if tracer is None:
+        res = claims[0].compute()
+    else:
+        with tracer:
+            res = claims[0].compute()
     wall = time.perf_counter() - t0
     head, dirty = records.revision()
     rec = {
@@ -48,7 +53,7 @@ def work(job):
         "values": _finite_json(res.values), "seeds": _finite_json(list(res.seeds)),
         "outputs": {str(f): file_hash(str(f)) for f in res.outputs},
         "revision": head, "dirty": dirty, "date": records.now(), "wall_s": round(wall, 1),
-        "environment": records.environment(), "fingerprint": fingerprint(claims[0]),
+        "environment": records.environment(), "fingerprint": fingerprint(claims[0], tracer=tracer),
     }
     records.save(rec)
     return rec
