@@ -40,10 +40,12 @@ run explicit thread counts on a shared machine.
 numba's on-disk cache keys a function on its own source file only: a change
 in a function it calls from another file (an inlined kernel, the overlap
 correction) leaves the caller's cached machine code stale.
-:func:`purge_stale_cache` guards against that: at import it hashes every
-``.py`` file of the package and, when the hash differs from the one stored
-with the cache, deletes the package's cached numba code (it is recompiled on
-first use).
+:func:`purge_stale_cache` guards against that: at import it hashes the files
+compiled code can depend on (:func:`jit_sources`: every module of the package
+that imports numba, and the package modules those import from) and, when the
+hash differs from the one stored with the cache, deletes the package's cached
+numba code (it is recompiled on first use).  Editing any other module (the
+command line, the protocols' Python drivers, the analyses) keeps the cache.
 
 ``hot_inline_jit`` adds numba's IR inlining, for the tiny functions called per
 contact (the law-id dispatch, the separation of a pair): a call with ~40
@@ -52,6 +54,7 @@ scalar arguments costs ~15 ns per contact, as much as half a contact law.
 
 import hashlib
 import os
+import re
 from pathlib import Path
 
 if "OMP_WAIT_POLICY" not in os.environ:   # before numba loads its OpenMP pool
@@ -65,6 +68,41 @@ PACKAGE = Path(__file__).resolve().parent
 _STAMP = "fricstab-sources.sha256"
 
 
+_USES_NUMBA = re.compile(rb"^(?:import numba|from numba|from \S*_numba import)", re.M)
+_FROM = re.compile(rb"^from (\.*[\w.]*) import", re.M)
+
+
+def jit_sources(root=PACKAGE):
+    """The ``.py`` files of the package that compiled code can depend on, sorted: the
+    modules that import numba at top level (``import numba``, ``from numba``,
+    ``from fricstab._numba``; jitted functions are defined in such modules) and every
+    package module they import from at top level (its globals are frozen into the
+    machine code).  A module that jitted code reaches only through another numba
+    module is in the first set already."""
+    root = Path(root)
+    texts = {p: p.read_bytes() for p in root.rglob("*.py")}
+    jit = {p for p, t in texts.items() if _USES_NUMBA.search(t)}
+    out = set(jit)
+    for p in jit:
+        for mod in _FROM.findall(texts[p]):
+            mod = mod.decode()
+            if mod.startswith("."):                       # relative to the file's package
+                dots = len(mod) - len(mod.lstrip("."))
+                base = p.parent
+                for _ in range(dots - 1):
+                    base = base.parent
+                parts = [x for x in mod.lstrip(".").split(".") if x]
+            elif mod.split(".")[0] == root.name:
+                base, parts = root, mod.split(".")[1:]
+            else:
+                continue
+            target = base.joinpath(*parts)
+            for cand in (target.with_suffix(".py"), target / "__init__.py"):
+                if cand in texts:
+                    out.add(cand)
+    return sorted(out)
+
+
 def purge_stale_cache(root=PACKAGE):
     """Delete the cached numba code under ``root`` if any source file changed since it was cached.
 
@@ -72,7 +110,7 @@ def purge_stale_cache(root=PACKAGE):
     alone (numba then caches elsewhere, keyed by the installed files, which
     do not change).
     """
-    sources = sorted(root.rglob("*.py"))
+    sources = jit_sources(root)
     digest = hashlib.sha256()
     for path in sources:
         digest.update(str(path.relative_to(root)).encode())

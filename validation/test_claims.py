@@ -273,6 +273,7 @@ def test_numba_modules_and_tests_count_whole():
     assert whole_module("fricstab/x.py", "from .._numba import njit\n")
     assert whole_module("tests/test_x.py", "") and whole_module("validation/test_x.py", "")
     assert not whole_module("fricstab/cli/x.py", "import numpy as np\n")
+    assert not whole_module("fricstab/cli/x.py", "def version():\n    import numba\n")
     # every numba module of the package is hashed whole in a recorded fingerprint
     for job in JOBS:
         rec = records.load(job)

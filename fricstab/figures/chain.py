@@ -18,7 +18,18 @@ import numpy as np
 
 from fricstab.figures.common import finish, note, pyplot
 
-__all__ = ["dynamics_figure", "ramp_figure", "wave_figure"]
+__all__ = ["LABELS", "dynamics_figure", "ramp_figure", "wave_figure"]
+
+#: The axis labels of the chain's quantities, in Charan's units (length 2R, time
+#: t_0 = sqrt(m 2R / k_n), force k_n (2R)^{3/2} / 2000): the CLI's figures and the
+#: tutorials take theirs from here, so one quantity has one label and one unit
+#: (eigenvalues of M^-1 J in simulation units times ``time_unit(scene)**2``).
+LABELS = {
+    "fx": r"$F_x$ [$k_n (2R)^{3/2} / 2000$]",
+    "re_lambda": r"Re $\lambda(M^{-1}J)$ [$t_0^{-2}$]",
+    "im_lambda": r"Im $\lambda(M^{-1}J)$ [$t_0^{-2}$]",
+    "growth": r"growth rate Im $\sqrt{-\lambda}$ [$t_0^{-1}$]",
+}
 
 UNITS = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, force "
          r"$k_n (2R)^{3/2}/2000$ (the simulation's $k_n = 2000$, $F_y = 0.1$)")
@@ -47,9 +58,9 @@ def ramp_figure(res, events, unit2, path=None):
                Line2D([], [], color="C0", lw=0.6, ls="--", label="birth of a pair"),
                Line2D([], [], color="C2", lw=0.6, ls="--", label="death of a pair")]
     top.legend(handles=handles, fontsize=8, loc="lower left")
-    top.set_ylabel(r"Re $\lambda(M^{-1}J)$ [$t_0^{-2}$]")
-    bottom.set_ylabel(r"Im $\lambda(M^{-1}J)$ [$t_0^{-2}$]")
-    bottom.set_xlabel(r"$F_x$ [$k_n (2R)^{3/2} / 2000$]")
+    top.set_ylabel(LABELS["re_lambda"])
+    bottom.set_ylabel(LABELS["im_lambda"])
+    bottom.set_xlabel(LABELS["fx"])
     top.set_title("Chain ramp: eigenvalues against the pushing force (cf. Charan Fig. 2)")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     note(fig, UNITS)

@@ -163,12 +163,19 @@ def unit_hashes(text):
 
 
 def uses_numba(text):
-    """True if the module imports numba or the package's numba helpers."""
-    for node in ast.walk(ast.parse(text)):
+    """True if the module imports numba or the package's numba helpers outside its
+    functions (an import inside a function, to print numba's version say, compiles
+    nothing; a dispatcher made inside a function is found alive by :func:`ran_units`)."""
+    todo = list(ast.parse(text).body)
+    while todo:
+        node = todo.pop()
+        if isinstance(node, _FUNCS):
+            continue
         if isinstance(node, ast.Import) and any("numba" in a.name for a in node.names):
             return True
         if isinstance(node, ast.ImportFrom) and "numba" in (node.module or ""):
             return True
+        todo.extend(ast.iter_child_nodes(node))
     return False
 
 
