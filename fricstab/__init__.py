@@ -29,6 +29,12 @@ Analyses (``fricstab.analysis``)
     :func:`d2min`, :func:`slip_spectra`, :func:`detect_drops`, :func:`compare_precursors`.
 Input and output (``fricstab.io``)
     :func:`write_state_jacobian`, :func:`system_from_state`.
+
+Every function checks its arguments first: a wrong type, NaN, inf or a value
+out of range raises :class:`ParameterError` naming the parameter, its value and
+what is allowed (``docs/reference/engine.md``, "Input checks"); numpy scalars
+are numbers.  A computation that fails raises :class:`NumericalError` or
+:class:`ConvergenceError`.
 """
 
 import importlib

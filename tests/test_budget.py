@@ -64,3 +64,31 @@ def test_a_long_computation_is_announced(monkeypatch, capsys):
 
 def test_available_memory_is_positive():
     assert budget.available_memory() > 0
+
+
+COMMANDS = [
+    ["chain", "ramp"],
+    ["chain", "jacobian", "--fx", "0.01"],
+    ["packing", "dos", "--n", "16"],
+    ["packing", "rigidity", "--n", "16", "--modes"],
+    ["packing", "aqs", "--n", "16", "--law", "charan", "--strain", "0.002", "--dgamma", "1e-3"],
+    ["shear", "run", "--n", "300"],
+]
+
+
+@pytest.mark.parametrize("args", COMMANDS, ids=lambda a: " ".join(a[:2]))
+def test_a_command_too_big_refuses_before_allocating(args, tmp_path, monkeypatch, capsys):
+    """With 10 kB available every one of these commands is too big: exit 2, one line with
+    the estimate, nothing written; --dry-run shows the estimate instead."""
+    from fricstab.cli import main
+    monkeypatch.setenv("FRICSTAB_MEMORY", "1e4")
+    out = tmp_path / "out"
+    assert main([*args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "needs about" in err[0] and "available" in err[0], err
+    assert not out.exists()
+    monkeypatch.setenv("FRICSTAB_MEMORY", "1e12")
+    assert main([*args, "--out", str(out), "--dry-run"]) == 0
+    doc = capsys.readouterr().out
+    assert '"estimate"' in doc and '"peak_memory_bytes"' in doc
+    assert not out.exists()

@@ -171,3 +171,92 @@ def test_directory_is_one_runs_output_or_says_why_not(command, seq, tmp_path_fac
         else:
             assert why
             good = None   # a kill that removed the old result: nothing to accept
+
+
+refusals = st.tuples(st.sampled_from(["late", "host"]), st.integers(0, 1),
+                     st.sampled_from(["", "--force", "--resume"]), st.integers(1, 8))
+
+
+@pytest.mark.parametrize("command", sorted(COMMANDS))
+@settings(max_examples=max(EXAMPLES // 4, 10), deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(setup=st.lists(steps.filter(lambda s: s[0] in ("run", "kill")), max_size=3),
+       refusal=refusals)
+@example(setup=[], refusal=("late", 0, "", 1))   # a new --out: it is not created
+@example(setup=[("run", 0, "")], refusal=("late", 1, "--force", 3))
+def test_refused_runs_leave_nothing_new_in_out(command, setup, refusal, tmp_path_factory,
+                                               capsys, monkeypatch):
+    """Issue 39: a refused run (exit 2), wherever in the run the refusal comes, adds nothing
+    to ``--out``: not the folder itself, no journal, record or file, no changed byte; a
+    ``--force`` run refused after removing the old result leaves no new file either.
+
+    ``late``: a ParameterError at the k-th file write (after the directory is taken);
+    ``host``: the directory's lock held by a writer on another host.
+    """
+    from fricstab.io import results
+    protocol = COMMANDS[command][0]
+    d = tmp_path_factory.mktemp("refuse") / "out"
+    for op, a, b in setup:   # an earlier state: a result, an interrupted run, or none
+        argv = ["chain", command, "--n", "4", *COMMANDS[command][2][a % 2], "--out", str(d),
+                "--quiet", "--no-progress"]
+        if op == "run":
+            main(argv + ([b] if b and (b != "--resume" or command == "dynamics") else []))
+        else:
+            real = os.replace
+            calls = [0]
+
+            def replace(src, dst, _limit=b):
+                calls[0] += 1
+                if calls[0] > _limit:
+                    raise Killed()
+                return real(src, dst)
+            monkeypatch.setattr(os, "replace", replace)
+            try:
+                main(argv + ["--force"])
+            except Killed:
+                if d.exists():
+                    _lock(d, _dead_pid(), protocol, "killed")
+            finally:
+                monkeypatch.setattr(os, "replace", real)
+                results.release_all()
+        capsys.readouterr()
+    kind, a, flag, k = refusal
+    if kind == "host" and not d.exists():
+        d.mkdir()
+    if kind == "host":
+        (d / rundir.LOCK).write_text(json.dumps(
+            {"pid": 1, "host": "elsewhere.invalid", "start": None, "protocol": protocol,
+             "command": "another run"}))
+    before = _snapshot(d)
+    argv = ["chain", command, "--n", "4", *COMMANDS[command][2][a], "--out", str(d), "--quiet",
+            "--no-progress", *([flag] if flag and (flag != "--resume" or
+                                                   command == "dynamics") else [])]
+    real, calls = os.replace, [0]
+
+    def refuse(src, dst):
+        calls[0] += 1
+        if kind == "late" and calls[0] == k:
+            raise ParameterError("refused late")
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", refuse)
+    try:
+        rc = main(argv)
+    finally:
+        monkeypatch.setattr(os, "replace", real)
+    err = capsys.readouterr().err
+    if rc != 2:
+        assert kind == "late" and rc == 0, err   # the run completed in fewer writes
+        return
+    assert err.startswith("fricstab: error:") and err.count("\n") == 1, err
+    after = _snapshot(d)
+    if kind == "late" and before is not None:   # a dead writer's lock: any run takes it over
+        assert after is not None
+        assert after.pop(rundir.LOCK, None) in (None, before.pop(rundir.LOCK, None))
+    if flag != "--force" or kind == "host":
+        assert after == before, err
+    else:   # --force removed the previous result; nothing new came
+        assert (after is None) if before is None else after is not None, err
+        assert all(before.get(name) == data for name, data in (after or {}).items()), err
+    if after is not None:
+        assert not list(d.rglob("*.tmp"))

@@ -61,6 +61,13 @@ def detect_drops(strain, stress, threshold=DROP_THRESHOLD):
         ``step`` (first dropping step), ``gamma`` (onset strain), ``size``
         (summed decrease) and ``steps``.
     """
+    from fricstab.errors import ParameterError, check_finite_array, check_real
+    check_finite_array("strain", strain, ndim=1)
+    check_finite_array("stress", stress, ndim=1)
+    check_real("threshold", threshold, 0.0)
+    if len(strain) != len(stress):
+        raise ParameterError(f"strain and stress must have the same length, got {len(strain)} "
+                             f"and {len(stress)}")
     ds = np.diff(np.asarray(stress, float))
     out = []
     for k in np.flatnonzero(ds < -threshold) + 1:

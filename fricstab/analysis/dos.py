@@ -91,8 +91,14 @@ def spectrum(jac, route="auto", vectors=True):
     NumericalError
         A non-finite Jacobian entry, naming its row.
     """
-    from fricstab.errors import check_finite
+    from fricstab.errors import ParameterError, check_bool, check_finite
+    if route not in ("auto", "dense", "symmetric"):
+        raise ParameterError(f"unknown spectrum route {route!r}; use dense, symmetric or auto")
+    check_bool("vectors", vectors)
     dense = jac.toarray() if hasattr(jac, "toarray") else np.asarray(jac)
+    if dense.ndim != 2 or dense.shape[0] != dense.shape[1] or dense.dtype.kind not in "iuf":
+        raise ParameterError(f"jac must be a square real matrix, got shape {dense.shape} "
+                             f"of dtype {dense.dtype}")
     check_finite("Jacobian entry", dense, item="row")   # LAPACK would refuse it unnamed
     asym = asymmetry(dense)
     if route == "auto":

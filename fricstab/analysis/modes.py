@@ -15,7 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from fricstab.analysis.spectrum import decompose
-from fricstab.scenes.chain import forces_and_jacobian, mass_vector, time_unit
+from fricstab.errors import ParameterError
+from fricstab.scenes.chain import check_chain, forces_and_jacobian, mass_vector, time_unit
 
 __all__ = ["TransverseMode", "transverse_mode"]
 
@@ -51,6 +52,7 @@ def transverse_mode(scene, state):
         ``wavelength`` (units of 2R), ``speed`` (``omega / k``, 2R per paper
         time unit) and ``vector`` (N, dof).
     """
+    check_chain(scene, state)
     _, jac = forces_and_jacobian(scene, state)
     spec = decompose(jac, mass_vector(scene))
     n, dof = scene.n, scene.dof
@@ -62,6 +64,8 @@ def transverse_mode(scene, state):
         frac = float((v[:, 1] ** 2).sum() / (v ** 2).sum())
         if frac > best_frac:
             best, best_frac = (k, v), frac
+    if best is None:
+        raise ParameterError("the state has no real oscillating mode (no real lambda < 0)")
     k, v = best
     length = 2 * scene.radius
     unit = time_unit(scene)

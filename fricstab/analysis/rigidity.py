@@ -58,7 +58,8 @@ import scipy.sparse as sps
 from fricstab.analysis.dos import spectrum
 from fricstab.engine.jacobian import jacobian
 from fricstab.engine.newton import bordered_solve, translation_modes
-from fricstab.errors import ParameterError
+from fricstab.engine.system import check_system_state
+from fricstab.errors import ParameterError, check_bool
 from fricstab.scenes.packing_relax import frozen_rates, separations
 
 __all__ = ["LinearResponse", "Rigidity", "affine_rates", "ishima_flipped", "ishima_scale",
@@ -139,6 +140,7 @@ def linear_response(system, state):
     ParameterError
         If a particle is not free.
     """
+    check_system_state(system, state)
     if not np.all(system.free):
         raise ParameterError("linear_response: every particle must be free (a backbone)")
     dof, box = system.dof, system.lx
@@ -269,6 +271,10 @@ def rigidity(system, state, modes=False, route="auto"):
         convention ``-dF/dq`` in ``(x, y, l)``), ``xi``, ``theta``, ``u``,
         ``checks`` (zero-mode and solve residuals) and ``seconds``.
     """
+    check_system_state(system, state)
+    check_bool("modes", modes)
+    if route not in ("auto", "symmetric", "dense"):
+        raise ParameterError(f"route must be 'auto', 'symmetric' or 'dense', got {route!r}")
     k, n, box = system.dof, system.n, system.lx
     t0 = time.perf_counter()
     jac, xi, theta, g_a, forces = linear_response(system, state)

@@ -65,7 +65,7 @@ from fricstab import signals
 from fricstab.analysis.shear_phases import (PAPER_BINS, binned_spearman, find_phases,
                                             phase_metrics, phase_summary, spearman_cell,
                                             step_metrics, tables_markdown)
-from fricstab.errors import ParameterError
+from fricstab.errors import ParameterError, check_finite_array, check_real
 
 __all__ = ["PAPER_BINS", "PER_STEP", "ShearAnalysis", "analyze", "binned_spearman",
            "check_previous", "contact_angle", "d2min", "differential_forces", "find_phases", "gr_regions",
@@ -143,7 +143,20 @@ def d2min(pos_ref, pos_cur, lx, radius_cut, include_mask=None):
         D2min (Eq. B1, length^2) with ``Gamma = X Y^-1`` (Eqs. B2-B4); NaN for
         excluded particles and for degenerate neighbourhoods (< 2 neighbours
         or collinear).
+
+    Raises
+    ------
+    ParameterError
+        Positions not finite real (N, 2) arrays, ``lx`` not finite > 0,
+        ``radius_cut`` not in (0, lx/2), a mask of another length.
     """
+    check_finite_array("pos_ref", pos_ref, shape=(None, 2))
+    check_finite_array("pos_cur", pos_cur, shape=(None, 2))
+    check_real("lx", lx, 0.0, low_open=True)
+    check_real("radius_cut", radius_cut, 0.0, low_open=True)
+    if include_mask is not None and np.shape(include_mask) != (np.shape(pos_ref)[0],):
+        raise ParameterError(f"include_mask must have shape ({np.shape(pos_ref)[0]},), got "
+                             f"{np.shape(include_mask)}")
     pos_ref = np.asarray(pos_ref, dtype=np.float64)
     pos_cur = np.asarray(pos_cur, dtype=np.float64)
     if pos_ref.shape != pos_cur.shape or pos_ref.ndim != 2 or pos_ref.shape[1] != 2:

@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from fricstab.errors import ParameterError, check_finite_array, check_real
+
 __all__ = ["Spectrum", "complex_pairs", "decompose", "growth_rate", "pair_indicator",
            "tracking_radius"]
 
@@ -70,7 +72,13 @@ def decompose(jac, mass, vectors=True):
         (``left[:, k].conj() @ right[:, k] = 1``) and ``condition``
         ``|l| |r| / |l^H r|``; None without ``vectors``.
     """
-    a = jac / mass[:, None]
+    check_finite_array("jac", jac, ndim=2)
+    n = np.shape(jac)[0]
+    check_finite_array("mass", mass, shape=(n,))
+    if np.shape(jac) != (n, n) or not np.all(np.asarray(mass) > 0):
+        raise ParameterError(f"decompose: jac must be square (n, n) and mass (n,) > 0, got "
+                             f"jac {np.shape(jac)}, mass min {np.min(mass, initial=np.inf):g}")
+    a = jac / np.asarray(mass)[:, None]
     if not vectors:
         w = scipy.linalg.eigvals(a)
         return Spectrum(w[np.argsort(w.real, kind="stable")], None, None, None)
@@ -99,6 +107,8 @@ def complex_pairs(eigenvalues):
     ndarray of complex
         The eigenvalues with ``Im > 0``, sorted by real part.
     """
+    eigenvalues = np.asarray(check_finite_array("eigenvalues", eigenvalues, ndim=1,
+                                                complex_ok=True))
     w = eigenvalues[eigenvalues.imag > 0]
     return w[np.argsort(w.real)]
 
@@ -132,6 +142,10 @@ def pair_indicator(eigenvalues, center, radius):
     center : float
         The updated centre (the pair's real part when found).
     """
+    eigenvalues = np.asarray(check_finite_array("eigenvalues", eigenvalues, ndim=1,
+                                                complex_ok=True))
+    check_real("center", center)
+    check_real("radius", radius, 0.0)
     upper = eigenvalues[eigenvalues.imag > 0]
     if upper.size:
         k = int(np.argmin(np.abs(upper.real - center)))
@@ -174,4 +188,8 @@ def growth_rate(eigenvalues):
     float
         The largest growth rate (1/time; 0 for a stable spectrum).
     """
+    eigenvalues = np.asarray(check_finite_array("eigenvalues", eigenvalues, ndim=1,
+                                                complex_ok=True))
+    if eigenvalues.size == 0:
+        raise ParameterError("growth_rate: no eigenvalues")
     return float(np.max(np.abs(np.sqrt(-eigenvalues.astype(complex)).imag)))

@@ -44,8 +44,65 @@ import traceback
 import warnings
 from pathlib import Path
 
-from fricstab import __version__
-from fricstab.laws import ALL_LAW_NAMES, CAPPED_LAW_NAMES, ParameterError, get_law
+#: Most threads NUMBA_NUM_THREADS may ask for.
+MAX_ENV_THREADS = 1024
+#: numba's threading layers (NUMBA_THREADING_LAYER) -> the pools that can serve each.
+_LAYERS = {"default": ("tbbpool", "omppool", "workqueue"), "safe": ("tbbpool",),
+           "threadsafe": ("tbbpool", "omppool"), "forksafe": ("tbbpool", "workqueue"),
+           "tbb": ("tbbpool",), "omp": ("omppool",), "workqueue": ("workqueue",)}
+
+
+def _check_thread_count(environ):
+    """Why ``NUMBA_NUM_THREADS`` cannot work (one line), or None.
+
+    Read by numba when it is imported (a traceback for 0, -1; a warning for
+    ``abc``): checked before.  A bad value is removed from ``environ`` so that
+    numba still imports; :func:`main` then refuses with the line (exit 2).
+    An empty value counts as unset.
+    """
+    text = environ.get("NUMBA_NUM_THREADS")
+    if text is None:
+        return None
+    if not text.strip():
+        environ.pop("NUMBA_NUM_THREADS")
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        value = None
+    if value is not None and 1 <= value <= MAX_ENV_THREADS:
+        return None
+    environ.pop("NUMBA_NUM_THREADS")
+    return (f"environment variable NUMBA_NUM_THREADS = {text[:40]!r} must be an integer in "
+            f"[1, {MAX_ENV_THREADS}] (unset it to use every core, or use --threads N)")
+
+
+def _check_threading_layer(environ=os.environ):
+    """Why ``NUMBA_THREADING_LAYER`` cannot work (one line), or None (numba is imported)."""
+    import importlib
+    text = environ.get("NUMBA_THREADING_LAYER")
+    if text is None or not text.strip():
+        return None
+    pools = _LAYERS.get(text.strip().lower())
+    if pools is None:
+        return (f"environment variable NUMBA_THREADING_LAYER = {text[:40]!r} is not a "
+                f"threading layer of numba; allowed: {', '.join(_LAYERS)} (or unset it)")
+    for pool in pools:
+        try:
+            importlib.import_module(f"numba.np.ufunc.{pool}")
+            return None
+        except (ImportError, OSError):
+            continue
+    return (f"environment variable NUMBA_THREADING_LAYER = {text[:40]!r}: that threading "
+            f"layer is not installed here (its library, e.g. TBB for 'tbb' and 'safe', is "
+            f"missing); unset it or use workqueue")
+
+
+#: A bad NUMBA_NUM_THREADS, found before numba is imported (below); main refuses it.
+_THREAD_ENV_PROBLEM = _check_thread_count(os.environ)
+
+from fricstab import __version__  # noqa: E402  (numba reads its environment when imported)
+from fricstab.laws import ALL_LAW_NAMES, CAPPED_LAW_NAMES, ParameterError, get_law  # noqa: E402
 
 ALL_LAWS = ALL_LAW_NAMES
 
@@ -136,7 +193,7 @@ def _parser():
     v.add_argument("--cases", type=_int_at_least(1, 1_000_000, " (about 1,000 cases per "
                                                    "law per minute)"), default=200,
                    help="configurations per law (default: 200)")
-    v.add_argument("--seed", type=_int_at_least(0), default=0,
+    v.add_argument("--seed", type=_int_at_least(0, 2 ** 63 - 1), default=0,
                    help="seed of the configuration sampler (default: 0)")
     v.add_argument("--json", type=Path, default=None, metavar="PATH",
                    help="write the JSON report here")
@@ -340,6 +397,8 @@ def _resume_hint(ns):
     out = getattr(ns, "out", None)
     if out is not None and getattr(ns, "checkpoint_every", "n/a") != "n/a":
         return f"; checkpoints kept in {out}: rerun the same command with --resume"
+    if out is not None and hasattr(ns, "resume"):   # ensembles: chain waves
+        return f"; stored members kept in {out}: rerun the same command with --resume"
     return ""
 
 
@@ -361,6 +420,32 @@ def _log_internal(ns, exc):
     return None
 
 
+def _stdout_closed():
+    """True when stdout's reader is gone (``| head``); then fd 1 goes to /dev/null.
+
+    So that neither this run nor the interpreter's last flush prints
+    "Broken pipe": a closed pipe ends the output quietly, as in other Unix tools.
+    """
+    try:
+        sys.stdout.flush()
+        import select
+        poll = select.poll()
+        poll.register(sys.stdout.fileno(), select.POLLOUT)
+        if not any(ev & select.POLLERR for _, ev in poll.poll(0)):
+            return False
+    except BrokenPipeError:
+        pass
+    except (OSError, ValueError, AttributeError):
+        return False
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
+    return True
+
+
 def main(argv=None):
     """Entry point; returns the exit status (see the module docstring).
 
@@ -368,9 +453,14 @@ def main(argv=None):
     collected, stored in the record of the run (``warnings``) and summed up in
     one line at the end.
     """
+    problem = _THREAD_ENV_PROBLEM or _check_threading_layer()
+    if problem:   # before any work: numba's threads cannot start as asked
+        print(f"fricstab: error: {problem}", file=sys.stderr)
+        return EXIT_USAGE
     from fricstab import signals
-    from fricstab.io.results import WARNINGS, release_all
+    from fricstab.io.results import WARNINGS, forget_all, release_all
     WARNINGS.clear()
+    forget_all()
     try:
         with signals.interruptible(), warnings.catch_warnings():
             warnings.simplefilter("always")
@@ -378,6 +468,8 @@ def main(argv=None):
             return _main(argv)
     finally:
         release_all()
+        forget_all()
+        _stdout_closed()   # a reader gone after the last line: quiet, the status kept
         if WARNINGS:
             first = WARNINGS[0]
             more = f" and {len(WARNINGS) - 1} more" if len(WARNINGS) > 1 else ""
@@ -409,6 +501,8 @@ def _main(argv):
     except SystemExit as exc:   # --help, --version
         return exc.code if isinstance(exc.code, int) else 0
     except (UsageError, ParameterError) as exc:
+        from fricstab.io.results import abandon_all
+        abandon_all()   # a refused run leaves nothing new in --out
         print(f"fricstab: error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
@@ -420,6 +514,11 @@ def _main(argv):
     except MemoryError:
         print("fricstab: error: out of memory; reduce the system size", file=sys.stderr)
         return EXIT_NUMERICAL
+    except BrokenPipeError as exc:
+        if _stdout_closed():   # `fricstab ... | head -1`: the reader has what it wanted
+            return EXIT_OK
+        print(f"fricstab: error: {_one_line(exc.strerror or exc)}", file=sys.stderr)
+        return EXIT_OS
     except OSError as exc:
         name = f": {exc.filename}" if exc.filename else ""
         print(f"fricstab: error: {_one_line(exc.strerror or exc)}{name}", file=sys.stderr)

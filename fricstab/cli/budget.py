@@ -154,3 +154,50 @@ def require(what, nbytes, flops=0.0, *, advice="use a smaller system", count=1,
         print(f"fricstab: note: {what}: estimated {_duration(seconds)} on this machine "
               f"(peak memory {gib(nbytes)})", file=sys.stderr, flush=True)
     return estimate
+
+
+def lstsq(d):
+    """(bytes, flops) of a dense least-squares solve with a ``d x d`` matrix (LAPACK's
+    ``gelsd``, the chain's Newton step): the sparse matrix made dense, LAPACK's copy and
+    its SVD workspace (about one more d x d), 64 d words; about 12 d^3 flops."""
+    d = int(d)
+    return int(8 * (3 * d * d + 64 * d)), 12.0 * d**3
+
+
+def chain(what, n_disks, spectra, solves, *, dry_run=False):
+    """The estimate of a chain command: ``spectra`` eigendecompositions of M^-1 J with
+    left and right vectors and ``solves`` Newton least-squares steps, each of size 3 N."""
+    d = 3 * int(n_disks)
+    eb, ef = dense_eig(d, vectors=True, left=True)
+    lb, lf = lstsq(d)
+    return require(f"{what} ({spectra} spectra and ~{solves} Newton steps of size {d})",
+                   max(eb, lb) if spectra else lb, spectra * ef + solves * lf,
+                   advice="use a smaller --n", dry_run=dry_run)
+
+
+def packing(what, opened, params, count, *, route="dense", vectors=True, dry_run=False):
+    """The estimate of ``count`` dense spectra of a packing's Jacobian (3 coordinates a
+    disk; the packing's size bounds its backbone's): ``route`` 'symmetric' is ``eigh``,
+    any other the general ``eig`` with left vectors (the worst case of 'auto')."""
+    source = getattr(opened, "source", None)
+    n = source.packing.n if source is not None else int(params["n"])
+    d = 3 * n
+    nbytes, flops = dense_eig(d, vectors=vectors, left=vectors and route != "symmetric",
+                              symmetric=route == "symmetric")
+    return require(f"{what} ({count} dense spectra of size {d})", nbytes, count * flops,
+                   advice="use a smaller packing", dry_run=dry_run)
+
+
+#: bytes a bulk disk of the shear cell costs, bounded above: its coordinates, velocities,
+#: forces and their scratch (about 25 float64 arrays of 3), up to 6 contacts with their
+#: histories, indices and flags (about 120 bytes each), the cell lists and the thread
+#: partitions: about 1.5 kB, taken as 2 kB (measured: the peak RSS of n = 500 and 2,000
+#: cells differs by less than 1 MB, within numba's and LLVM's 250 MB)
+SHEAR_BYTES_PER_DISK = 2048
+
+
+def shear(n, *, dry_run=False):
+    """The memory estimate of a shear cell of ``n`` bulk disks (its time is announced by
+    the run's own progress)."""
+    return require(f"shear run ({n} bulk disks)", SHEAR_BYTES_PER_DISK * int(n),
+                   advice="use a smaller --n", dry_run=dry_run)

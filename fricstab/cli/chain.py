@@ -67,6 +67,15 @@ from fricstab.laws import ParameterError
 
 __all__ = ["add_parser", "run"]
 
+#: Why a first-breach / first-slide entry of dynamics.json is null (``<key>_note``).
+NEVER = {"breach": "never: null for a disk that did not reach the Coulomb limit within "
+                   "--duration (NaN in dynamics.npz)",
+         "slide": "never: null for a disk that did not slide by slide_threshold_2R within "
+                  "--duration"}
+
+#: Why a command-line scale is kept in [1e-30, 1e30] (fricstab.io.scenes.SCALE_DOC).
+_WHY = " (beyond it the products of the scene's scales leave float64)"
+
 def add_parser(sub, parser_class, positive_float):
     """Register ``fricstab chain ramp|jacobian|dynamics|waves`` on the subparsers ``sub``."""
     from fricstab.io.results import add_run_options
@@ -94,24 +103,29 @@ def add_parser(sub, parser_class, positive_float):
                             "--param mu=VALUE)")
         c.add_argument("--inertia", type=_finite_float, default=None,
                        help="moment of inertia (default m R^2 / 2)")
-        c.add_argument("--step", type=positive_float(), default=1e-3,
+        c.add_argument("--step", type=positive_float(1e-30, 1e30, _WHY), default=1e-3,
                        help="ramp step in F_x (default 1e-3); smaller is slower and, for the "
                             "ramp, resolves closer events")
         if name == "ramp":
-            c.add_argument("--fx-max", type=positive_float(), default=0.1,
+            c.add_argument("--fx-max", type=positive_float(1e-30, 1e30, _WHY), default=0.1,
                            help="largest F_x (default 0.1)")
-            c.add_argument("--tol", type=positive_float(), default=1e-6,
+            c.add_argument("--tol", type=positive_float(
+                               1e-15, 1.0, " (below 1e-15 F_x is not resolved in float64)"),
+                           default=1e-6,
                            help="bisection tolerance in F_x (default 1e-6); each halving "
                                 "costs one more Newton solve and eigendecomposition per event")
         elif name == "waves":
-            c.add_argument("--fx", type=positive_float(), nargs="+", default=[0.083, 0.087, 0.090],
+            c.add_argument("--fx", type=positive_float(1e-30, 1e30, _WHY), nargs="+",
+                           default=[0.083, 0.087, 0.090],
                            help="F_x values (default: the paper's 0.083 0.087 0.090)")
             c.add_argument("--realizations", type=_count, default=25,
                            help="seeded realizations per F_x, >= 2 (default 25); the "
                                 "uncertainty of V1, V2 falls as 1/sqrt(realizations)")
-            c.add_argument("--duration", type=positive_float(), default=25000.0,
+            c.add_argument("--duration", type=positive_float(1e-30, 1e30, _WHY),
+                           default=25000.0,
                            help="duration in Charan's time unit (default 25000)")
-            c.add_argument("--slide-threshold", type=positive_float(), default=0.02,
+            c.add_argument("--slide-threshold", type=positive_float(1e-30, 1e30, _WHY),
+                           default=0.02,
                            help="displacement (2R) that counts as sliding (default 0.02)")
             c.add_argument("--scheduler", default="local", metavar="ADDRESS",
                            help="dask scheduler: 'local' (a LocalCluster of processes, "
@@ -129,9 +143,12 @@ def add_parser(sub, parser_class, positive_float):
             c.add_argument("--fx", type=_finite_float, required=True,
                            help="F_x of the equilibrium")
         if name == "dynamics":
-            c.add_argument("--duration", type=positive_float(), default=20000.0,
+            c.add_argument("--duration", type=positive_float(1e-30, 1e30, _WHY),
+                           default=20000.0,
                            help="duration in Charan's time unit sqrt(m 2R/kn) (default 20000)")
-            c.add_argument("--amplitude", type=positive_float(), default=1e-9,
+            c.add_argument("--amplitude", type=positive_float(
+                               1e-30, 1.0, " (a perturbation beyond the overlap lifts the "
+                               "disks off the wall)"), default=1e-9,
                            help="perturbation, times the wall overlap (default 1e-9)")
             c.add_argument("--disk", type=_count, default=4,
                            help="disk whose trajectory is drawn, counted from 1 as the paper "
@@ -154,10 +171,12 @@ def _ramp(ns, argv):
     _check_ramp_steps(ns.fx_max, ns.step, "--fx-max")
     protocol = {"fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol}
     rd = _result_dir(ns, "ramp", ["ramp.npz", "ramp.png"], scene, protocol)
-    if ns.dry_run:
-        return _dry_run(ns, scene, protocol)
-    rd.create()
     steps = int(round(ns.fx_max / ns.step)) + 1
+    from fricstab.cli import budget
+    estimate = budget.chain("chain ramp", scene.n, steps, 3 * steps, dry_run=ns.dry_run)
+    if ns.dry_run:
+        return _dry_run(ns, scene, {**protocol, "estimate": estimate})
+    rd.create()
     with rd.stage("ramp"), tqdm(total=steps, desc="ramp", unit="step",
                                 disable=ns.no_progress or None, file=sys.stderr) as bar:
         res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar)
@@ -197,8 +216,11 @@ def _jacobian(ns, argv):
     _check_ramp_steps(fx, ns.step, "--fx")
     protocol = {"fx": fx, "step": ns.step}
     rd = _result_dir(ns, "jacobian", [*FILES, "jacobian.npy"], loaded, protocol)
+    from fricstab.cli import budget
+    steps = max(1, int(np.ceil(abs(fx) / ns.step)))
+    estimate = budget.chain("chain jacobian", loaded.n, 0, 3 * (steps + 1), dry_run=ns.dry_run)
     if ns.dry_run:
-        return _dry_run(ns, loaded, protocol)
+        return _dry_run(ns, loaded, {**protocol, "estimate": estimate})
     rd.create()
     with rd.stage("equilibrium"):
         state = _ramped_equilibrium(loaded.with_fx(0.0), fx, ns.step)
@@ -252,6 +274,8 @@ def _dynamics(ns, argv):
     rd.create()
     ck = Checkpointer(rd.checkpoints(), _fingerprint(scene, protocol))
     resume = ck.latest() if ns.resume else None
+    if resume is not None:   # saved between steps 1 and the last but one
+        ck.check_step(resume, int(np.ceil(n_steps)) - 1, 1)
     if ns.resume and resume is None and not ns.quiet:
         print(f"no checkpoint in {rd.path}/checkpoints: starting from the beginning",
               file=sys.stderr)
@@ -280,6 +304,11 @@ def _dynamics(ns, argv):
            "first_slide_paper_time": [None if np.isnan(v) else float(v) for v in tau_s],
            "slide_threshold_2R": 0.02,
            "final_msd": float(m[-1]), **_meta(scene, ns, res.seconds)}
+    for key, never in (("first_breach_paper_time", NEVER["breach"]),
+                       ("first_breach_x", NEVER["breach"]),
+                       ("first_slide_paper_time", NEVER["slide"])):
+        if None in doc[key]:   # null: the event did not happen within the run
+            doc[f"{key}_note"] = never
     wall_t = res.wall_hist[:, :, 0] if res.wall_hist.shape[2] else \
         np.zeros(res.wall_hist.shape[:2])
     with rd.stage("write"):
@@ -294,8 +323,11 @@ def _dynamics(ns, argv):
     ck.clear()
     print(f"dynamics at F_x = {ns.fx:g} ({scene.law}) for {ns.duration:g} time units "
           f"({res.seconds:.1f} s): final M(t) = {m[-1]:.3e}; disks at the Coulomb limit: "
-          f"{int(np.sum(~np.isnan(tau)))}/{scene.n}; wrote {rd.path}/dynamics.json, "
-          "dynamics.npz, dynamics.png")
+          f"{int(np.sum(~np.isnan(tau)))}/{scene.n}"
+          + (f" (never: disk{'s' if np.isnan(tau).sum() > 1 else ''} "
+             f"{', '.join(str(i + 1) for i in np.flatnonzero(np.isnan(tau)))})"
+             if np.isnan(tau).any() else "")
+          + f"; wrote {rd.path}/dynamics.json, dynamics.npz, dynamics.png")
     return 0
 
 

@@ -9,6 +9,34 @@ from fricstab.laws import ParameterError
 
 __all__ = ["waves"]
 
+#: The fit of a wave speed needs at least three disks with a time (protocols.waves._fit).
+MIN_WAVE_DISKS = 3
+
+
+def _check_duration(scene, duration):
+    """Refuse a --duration whose Verlet steps per realization exceed MAX_VERLET_STEPS."""
+    from fricstab.cli.chain_common import MAX_VERLET_STEPS
+    from fricstab.protocols.dynamics import default_dt
+    from fricstab.scenes.chain import time_unit
+    n_steps = duration * time_unit(scene) / default_dt(scene, 0.02)
+    if not n_steps <= MAX_VERLET_STEPS:
+        raise ParameterError(f"--duration {duration:g} needs {n_steps:.3g} Verlet steps per "
+                             f"realization for this scene; at most {MAX_VERLET_STEPS:.0e}")
+
+
+#: Why V1 / V2 is not defined (NaN from the fit): in the record (``v1_note``) and the table.
+NOT_DEFINED = {"v1": "not defined: fewer than 3 disks breached within --duration (raise "
+                     "--duration or --fx)",
+               "v2": "not defined: fewer than 3 disks slid within --duration (raise "
+                     "--duration or --fx)"}
+
+
+def _speed(key, value, err, fmt, fmt_err):
+    """``x +- e`` for the table, or why the speed is not defined."""
+    if np.isfinite(value) and np.isfinite(err):
+        return f"{value:{fmt}} +- {err:{fmt_err}}"
+    return NOT_DEFINED[key] if not np.isfinite(value) else f"{value:{fmt}} +- (not defined)"
+
 
 def waves(ns, argv):
     from fricstab.analysis.modes import transverse_mode
@@ -24,10 +52,18 @@ def waves(ns, argv):
         raise ParameterError(f"--realizations must be <= 100000, got {ns.realizations}")
     if ns.workers is not None and not 1 <= ns.workers <= 1024:
         raise ParameterError(f"--workers must be an integer in [1, 1024], got {ns.workers}")
+    twice = sorted({fx for fx in ns.fx if ns.fx.count(fx) > 1})
+    if twice:
+        raise ParameterError(f"--fx {twice[0]!r} is given {ns.fx.count(twice[0])} times; "
+                             "give each F_x once")
     scene = _scene(ns, fx=max(ns.fx, key=abs)).with_fx(0.0)
     _capped(scene, "waves")
+    if scene.n < MIN_WAVE_DISKS:
+        raise ParameterError(f"--n {scene.n}: a wave speed is fitted over the disks' breach "
+                             f"times and needs a chain of at least {MIN_WAVE_DISKS} disks")
     for fx in ns.fx:
         _check_ramp_steps(fx, ns.step, "--fx")
+    _check_duration(scene, ns.duration)
     fxs = list(dict.fromkeys(ns.fx))
     protocol = {"fx": fxs, "step": ns.step, "realizations": ns.realizations, "seed": ns.seed,
                 "duration_paper_units": ns.duration, "slide_threshold_2R": ns.slide_threshold,
@@ -75,7 +111,10 @@ def waves(ns, argv):
                             "v2_predicted_transverse": mode.speed,
                             "transverse_omega": mode.omega,
                             "transverse_wavelength": mode.wavelength,
-                            "breached_fraction": fit.breached_fraction})
+                            "breached_fraction": fit.breached_fraction,
+                            **{f"{k}_note": NOT_DEFINED[k] for k, v in (("v1", fit.v1),
+                                                                         ("v2", fit.v2))
+                               if not np.isfinite(v)}})
             for key in ("tau", "x_tau", "tau_slide", "x_slide"):
                 arrays[f"{key}_fx{fx!r}"] = np.array([getattr(r, key) for r in reals])
     doc = {"realizations": ns.realizations,
@@ -93,7 +132,8 @@ def waves(ns, argv):
         rd.write_png("waves.png", lambda tmp: wave_figure(all_reals, tmp, fits))
     _finish(rd, doc, scene, ns, argv, protocol)
     for r in results:
-        print(f"F_x = {r['fx']!r}: V1 = {r['v1']:.2e} +- {r['v1_err']:.1e}, "
-              f"V2 = {r['v2']:.3f} +- {r['v2_err']:.3f}, v_cm = {r['v_com']:.2e}")
+        print(f"F_x = {r['fx']!r}: V1 = {_speed('v1', r['v1'], r['v1_err'], '.2e', '.1e')}, "
+              f"V2 = {_speed('v2', r['v2'], r['v2_err'], '.3f', '.3f')}, "
+              f"v_cm = {r['v_com']:.2e}")
     print(f"wrote {rd.path}/waves.json, waves.npz, waves.png, members/")
     return 0

@@ -188,7 +188,7 @@ def add_parser(sub, parser_class, positive_float):
 
 def _schema():
     """The packing scene (``fricstab scene show packing``); one source of keys and ranges."""
-    from fricstab.io.scenes import Field, Schema
+    from fricstab.io.scenes import Field, Schema, in_scale_window
     from fricstab.scenes.packing import PHI_MAX, PHI_START_MAX
     from fricstab.scenes.packing_friction import LAWS
     return Schema("packing", "bidisperse frictional disk packings (Ishima et al.)", (
@@ -200,14 +200,19 @@ def _schema():
         Field("seed", "int", DEFAULTS["seed"], "-", "seed of the random placement",
               low=0, high=2 ** 63 - 1),
         Field("dphi", "float", DEFAULTS["dphi"], "-", "compression increment (paper 1e-4); "
-              "smaller is slower, closer to the paper's protocol", low=0.0, low_open=True),
+              "smaller is slower, closer to the paper's protocol", low=1e-9, high=0.1,
+              check_doc="below 1e-9 the compression takes more steps than any run"),
         Field("f_tol", "float", DEFAULTS["f_tol"], "k_N d", "force threshold at the target "
-              "phi: max |F| below it", low=0.0, low_open=True),
+              "phi: max |F| below it", low=1e-16, high=1.0,
+              check_doc="below 1e-16 the round-off of the forces never meets it"),
         Field("f_tol_compress", "float", DEFAULTS["f_tol_compress"], "k_N d",
               "force threshold of the intermediate compression steps (looser is faster)",
-              low=0.0, low_open=True),
+              low=1e-16, high=1.0,
+              check_doc="below 1e-16 the round-off of the forces never meets it"),
         Field("kt_scan", "floats", None, "-", "kT/kN values scanned with ishima or charan "
               "(replace the law's kt); 0 = frictionless (hertz with the law's kn)", low=0.0,
+              high=1e30, check=in_scale_window, check_doc="0 or >= 1e-30 (a sub-normal kT "
+              "leaves float64 in its products)",
               cli="--kt", default_doc="the law's kt when given, else rigidity: 1e-4 1 10; "
               "dos: 1e-8 1e-4 1 10"),
         Field("dgamma", "float", DEFAULTS["dgamma"], "-", "step strain of the G check; "

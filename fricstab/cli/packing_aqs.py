@@ -35,6 +35,7 @@ __all__ = ["add_parser", "aqs"]
 
 DEFAULT_CHECKPOINT_EVERY = 50
 DEFAULT_WINDOW_STEPS = 10
+_WHY = " (beyond it the stresses' products leave float64)"
 
 
 def _fraction(x):
@@ -42,23 +43,40 @@ def _fraction(x):
     return f"{x:.3f}" if np.isfinite(x) else "n/a"
 
 
+def _at_most(high, why):
+    """A float <= ``high`` (the lower end is checked with the run's strain)."""
+    def parse(text):
+        import argparse
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+        if value > high:
+            raise argparse.ArgumentTypeError(f"must be <= {high:g}{why}, got {text!r}")
+        return value
+    return parse
+
+
 def add_parser(psub, packing_option, make_options, common_options):
     """Register ``fricstab packing aqs`` on the packing subparsers."""
     from fricstab.analysis.aqs import DROP_THRESHOLD
+    from fricstab.cli import _int_at_least, _positive_float
     a = psub.add_parser("aqs", help="athermal quasistatic shear with history: stress drops "
                         "and complex-pair births along the path")
     packing_option(a)
     make_options(a)
     a.add_argument("--strain", type=float, required=True, help="final strain, >= --dgamma")
     a.add_argument("--dgamma", type=float, required=True, help="strain step, > 0")
-    a.add_argument("--tol", type=float, default=1e-6,
+    a.add_argument("--tol", type=_at_most(10.0, " (a strain)"), default=1e-6,
                    help="bisection bracket of a pair event in strain (default 1e-6)")
-    a.add_argument("--drop-threshold", type=float, default=DROP_THRESHOLD,
+    a.add_argument("--drop-threshold", type=_positive_float(1e-30, 1e30, _WHY),
+                   default=DROP_THRESHOLD,
                    help=f"a stress decrease above this is a drop (default {DROP_THRESHOLD:g} "
                         "k_N d^-1/2)")
-    a.add_argument("--window", type=float, default=None,
+    a.add_argument("--window", type=_positive_float(1e-30, 10.0, " (a strain)"), default=None,
                    help=f"precursor window in strain (default {DEFAULT_WINDOW_STEPS} dgamma)")
-    a.add_argument("--checkpoint-every", type=int, default=DEFAULT_CHECKPOINT_EVERY,
+    a.add_argument("--checkpoint-every", type=_int_at_least(1, 2 ** 62),
+                   default=DEFAULT_CHECKPOINT_EVERY,
                    metavar="STEPS", help=f"checkpoint every K strain steps (default "
                    f"{DEFAULT_CHECKPOINT_EVERY})")
     a.add_argument("--resume", action="store_true",
@@ -70,6 +88,7 @@ def add_parser(psub, packing_option, make_options, common_options):
 def _open(ns, params, fp):
     """The run's ResultDir and packing source; ``--resume`` reuses the packing of --out."""
     from fricstab.cli.packing_source import Opened, open_run, plan, read, reuse
+    from fricstab.io import rundir
     from fricstab.io.results import ResultDir
     if not ns.resume:
         return open_run(ns, params, "aqs", ["aqs.png", "events"], fp)
@@ -82,12 +101,40 @@ def _open(ns, params, fp):
         full = {k: v for k, v in full.items() if k not in MAKE_KEYS or k == "f_tol"}
         full["packing_sha256"] = source.sha256
     rd = ResultDir(ns.out, "aqs", resume=True, fingerprint=full)
+    if not rundir.journal_path(rd.path, "aqs").is_file():
+        raise ParameterError(f"--resume: nothing to resume in {rd.path} (no interrupted aqs "
+                             "run there); rerun without --resume")
     if source is None:
         record = plan(rd.path, want, False)
         if record is None:
             raise ParameterError(f"--resume: {rd.path} holds no packing of this run")
         source = reuse(rd.path, record)
     return Opened(rd, None, source, [], want)
+
+
+def _check_resumable(out, ck, last, n_steps):
+    """Refuse a checkpoint outside the run, or one whose births' event folders are gone.
+
+    Births before the checkpoint are not located again on resume, so their
+    ``events/birth_<k>_{lo,hi}`` folders (numbered over all births) must be there.
+    """
+    ck.check_step(last, n_steps, 1)
+    step = int(last["step"])
+    if len(last["stress"]) != step + 1:
+        raise ParameterError(f"--resume: the checkpoint {last['path']} is at step {step} but "
+                             f"holds {len(last['stress'])} states (edited by hand?); rerun "
+                             "with --force")
+    rows = np.asarray(last["events"]).reshape(-1, 9)
+    births = rows[rows[:, 0] == 0]
+    for k, row in enumerate(births):
+        for end in ("lo", "hi"):
+            folder = out / "events" / f"birth_{k}_{end}"
+            if row[7] and not (folder / "state.npz").is_file():
+                what = "events/ missing" if not (out / "events").is_dir() else \
+                    f"{folder.relative_to(out)} missing"
+                raise ParameterError(f"--resume: {what} in {out} (birth {k}, before the "
+                                     f"checkpoint at step {step}, is not located again): "
+                                     "rerun with --force")
 
 
 def aqs(ns, argv):
@@ -97,7 +144,7 @@ def aqs(ns, argv):
     from fricstab.analysis.aqs import compare, detect_drops
     from fricstab.io.checkpoint import Checkpointer
     from fricstab.io.jacobian_export import write_state_jacobian
-    from fricstab.protocols.aqs import ZERO_CLUSTER, check_strain, run_aqs
+    from fricstab.protocols.aqs import ZERO_CLUSTER, check_strain, check_tol, run_aqs
     from fricstab.scenes.packing_friction import backbone, frictional
 
     check_strain(ns.strain, ns.dgamma)
@@ -106,6 +153,7 @@ def aqs(ns, argv):
         if not (np.isfinite(v) and v > 0):
             raise ParameterError(f"--{name.replace('_', '-')} must be a finite number > 0, "
                                  f"got {v!r}")
+    check_tol(ns.tol, ns.strain)
     window = ns.window if ns.window is not None else DEFAULT_WINDOW_STEPS * ns.dgamma
     if not (np.isfinite(window) and window > 0):
         raise ParameterError(f"--window must be a finite number > 0, got {window!r}")
@@ -119,16 +167,25 @@ def aqs(ns, argv):
     fp = {"strain": ns.strain, "dgamma": ns.dgamma, "tol": ns.tol,
           "drop_threshold": ns.drop_threshold, "window": window}
     opened = _open(ns, params, fp)
+    n_steps = int(np.floor(ns.strain / ns.dgamma + 1e-9))
+    from fricstab.cli import budget
+    # a dense spectrum (values only) of M^-1 K per relaxed state, at least one per step
+    estimate = budget.packing("packing aqs", opened, params, n_steps, vectors=False,
+                              dry_run=ns.dry_run)
     if ns.dry_run:
-        return dry_run({**params, **fp}, [run])
+        return dry_run({**params, **fp}, [run], estimate)
+    # --resume: the checkpoint and the event folders are checked before anything is written
+    ck = Checkpointer(opened.rd.path / "checkpoints", {**public(params), **fp})
+    last = ck.latest(clean=False) if ns.resume else None
+    if last is not None:
+        _check_resumable(opened.rd.path, ck, last, n_steps)
     source = opened.start(argv, show_progress(ns))
     rd, packing = opened.rd, source.packing
     bb = backbone(packing, z_th=params["z_th"])
     with rd.stage("friction"):
         fr = frictional(bb, run.material, f_tol=params["f_tol"])
     system = fr.system
-    ck = Checkpointer(rd.checkpoints(), {**public(params), **fp})
-    last = ck.latest() if ns.resume else None
+    rd.checkpoints()
     rd.register("events", folder=True)
     extra = {"scene": "packing (Ishima et al.): the rattler-free backbone, sheared (AQS)",
              "backbone": {"n_total": packing.n, "n_backbone": bb.n, "z_th": params["z_th"]}}
@@ -139,7 +196,6 @@ def aqs(ns, argv):
                                  units=UNITS, extra={**extra, "strain": g, "birth": k,
                                                      "bracket_end": end})
 
-    n_steps = int(np.floor(ns.strain / ns.dgamma + 1e-9))
     done = 0 if last is None else int(last["step"])
     with rd.stage("aqs"), tqdm(total=n_steps, initial=done, desc="aqs", unit="step",
                                disable=not show_progress(ns), file=sys.stderr) as bar:

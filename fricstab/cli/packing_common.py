@@ -165,10 +165,12 @@ def friction_record(fr):
 
 # ------------------------------------------------------------------ output
 
-def dry_run(params, runs=None):
+def dry_run(params, runs=None, estimate=None):
     doc = public(params)
     if runs is not None:
         doc["runs"] = [r.record() for r in runs]
+    if estimate is not None:
+        doc["estimate"] = estimate
     print(json.dumps(json_clean(doc), indent=2, allow_nan=False))
     return 0
 

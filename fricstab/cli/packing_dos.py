@@ -41,6 +41,29 @@ def _spectrum(bb, run, route, f_tol):
             "friction": friction_record(fr)}
 
 
+#: Why an entry of a dos.json result is null (``<key>_note``).
+NOT_DEFINED = {"kt": "not defined: the law has no kT/kN parameter (hertz, lee_hurley); NaN "
+                     "in dos.npz 'kt'",
+               "rotational_peak": "not defined: no rotation-dominated mode (psi_r > 0.5), "
+                                  "e.g. a law without rotations",
+               "rotational_median": "not defined: no rotation-dominated mode (psi_r > 0.5), "
+                                    "e.g. a law without rotations"}
+
+
+def _notes(entry):
+    """``entry`` with a ``<key>_note`` for each of its keys that is null (NaN or undefined)."""
+    for key, why in NOT_DEFINED.items():
+        v = entry.get(key)
+        if v is None or (isinstance(v, float) and not np.isfinite(v)):
+            entry[f"{key}_note"] = why
+    return entry
+
+
+def _number(v, fmt):
+    """``v`` formatted, or "not defined" for None / NaN (the table's word for a null)."""
+    return "not defined" if v is None or not np.isfinite(v) else format(v, fmt)
+
+
 def _entry(i, s, edges):
     sp = s["sp"]
     return {**s["run"].record(), "index": i, "route": sp.route, "seconds": sp.seconds,
@@ -73,8 +96,11 @@ def dos(ns, argv):
     packing_source_checks(ns)
     opened = open_run(ns, params, "dos", ["dos.npz", "dos.png"],
                       {"kt": [r.kt for r in runs]})
+    from fricstab.cli import budget
+    estimate = budget.packing("packing dos", opened, params, len(runs), route=params["route"],
+                              dry_run=ns.dry_run)
     if ns.dry_run:
-        return dry_run(params, runs)
+        return dry_run(params, runs, estimate)
     source = opened.start(argv, show_progress(ns))
     rd, packing = opened.rd, source.packing
     bb = backbone(packing, z_th=params["z_th"])
@@ -101,7 +127,7 @@ def dos(ns, argv):
                        f"psi_t_{i}": s["psi_t"], f"psi_r_{i}": s["psi_r"], f"p_{i}": s["p"],
                        f"dos_{i}": d, f"psi_t_mean_{i}": s["psi_t_mean"],
                        f"psi_r_mean_{i}": s["psi_r_mean"]})
-        per_run.append(_entry(i, s, edges))
+        per_run.append(_notes(_entry(i, s, edges)))
     doc = {"packing": source.record(), **summary(packing, bb),
            "normalization": "D(omega) = counts / (3 N width), N = all particles "
                             "(rattlers included); translations dropped",
@@ -120,7 +146,8 @@ def dos(ns, argv):
     for e in per_run:
         print(f"  {e['folder']:<12s} {e['route']:9s} {e['modes']:5d} modes, "
               f"{e['negative_eigenvalues']} negative, rotational peak "
-              f"{e['rotational_peak']:.3g} (median {e['rotational_median']:.3g}), "
+              f"{_number(e['rotational_peak'], '.3g')} (median "
+              f"{_number(e['rotational_median'], '.3g')}), "
               f"{e['seconds']:.2f} s")
     print(f"wrote {rd.path}/dos.json, dos.npz, dos.png")
     return 0

@@ -65,8 +65,15 @@ def rigidity(ns, argv):
     packing_source_checks(ns)
     opened = open_run(ns, params, "rigidity", ["rigidity.png"] + [r.name for r in runs],
                       {"kt": [r.kt for r in runs], "modes": ns.modes})
+    from fricstab.cli import budget
+    src = opened.source
+    n = src.packing.n if src is not None else params["n"]
+    estimate = None
+    if ns.modes or (ns.modes is None and n <= MODES_MAX_PARTICLES):
+        estimate = budget.packing("packing rigidity --modes", opened, params, len(runs),
+                                  route=params["route"], dry_run=ns.dry_run)
     if ns.dry_run:
-        return dry_run(params, runs)
+        return dry_run(params, runs, estimate)
     source = opened.start(argv, show_progress(ns))
     rd, packing = opened.rd, source.packing
     bb = backbone(packing, z_th=params["z_th"])

@@ -235,7 +235,7 @@ def refuse(out, found, detail=None):
 
 def remove(out, found, why):
     """Remove the results ``found`` (record and files; a legacy one's usual files); one line."""
-    from fricstab.io.results import update_index
+    from fricstab.io.results import note_removed, update_index
     out = Path(out)
     for name in found:
         try:
@@ -258,6 +258,7 @@ def remove(out, found, why):
         rundir.remove_run(out, name)
     if found:
         update_index(out)
+        note_removed(out)
         print(f"fricstab: note: removed {', '.join(n + '.json' for n in found)} and "
               f"{'their' if len(found) > 1 else 'its'} files from {out} ({why})",
               file=sys.stderr)

@@ -84,6 +84,9 @@ TRADES = {
     "prep_tol": "looser: shorter preparation, less settled start",
     "prep_ke": "looser: shorter preparation, less settled start",
 }
+#: Output frames (strain / dgamma) of one run: each is stored; beyond this, refuse
+#: (the paper's cells have ~130,000 to ~160,000).
+MAX_FRAMES = 10_000_000
 _SKIP = ("seed", "checkpoint_every")   # options of add_run_options
 _TYPES = {"int": int, "float": float, "str": str}
 EXIT_NUMERICAL = 4
@@ -142,6 +145,9 @@ def resolve_params(scene=None, preset="quick", overrides=None, labels=None):
         raise ParameterError(f"r_max = {p['r_max']:g} must be >= r_min = {p['r_min']:g}")
     if p["strain"] < p["dgamma"]:
         raise ParameterError(f"strain = {p['strain']:g} must be >= dgamma = {p['dgamma']:g}")
+    if p["strain"] / p["dgamma"] > MAX_FRAMES:
+        raise ParameterError(f"strain / dgamma = {p['strain'] / p['dgamma']:.3g} output frames; "
+                             f"at most {MAX_FRAMES:.0e} (raise dgamma, --dgamma)")
     return p
 
 
@@ -210,6 +216,11 @@ def run_shear(params, out, *, resume=False, force=False, progress=False, argv=No
         sim.load_arrays(last)
         series = last["series"]
         chunk = int(last["chunk"])
+        if int(sim.scalars[FRAME]) != int(last["step"]) or len(series) != int(last["step"]) + 1:
+            raise ParameterError(f"--resume: the checkpoint {last['path']} is at frame "
+                                 f"{int(last['step'])} but holds frame counter "
+                                 f"{sim.scalars[FRAME]:g} and {len(series)} series rows "
+                                 "(edited by hand?); rerun with --force")
         log(f"resumed from {last['path']} (frame {int(sim.scalars[FRAME])})")
     spf = int(sim.scalars[3])
     n_frames = int(round(params["strain"] / params["dgamma"]))
@@ -348,9 +359,11 @@ def jacobian_state(params, out, *, force=False, argv=None, log=print):
 
 
 def _run(ns, argv):
+    from fricstab.cli import budget
     params = _params_of(ns)
+    estimate = budget.shear(params["n"], dry_run=ns.dry_run)
     if ns.dry_run:
-        print(json.dumps(params, indent=2))
+        print(json.dumps({**params, "estimate": estimate}, indent=2))
         return 0
     log = (lambda *a: None) if ns.quiet else print
     if ns.shear_command == "jacobian":

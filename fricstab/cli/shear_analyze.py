@@ -67,11 +67,30 @@ def frames_of(out, partial=False):
     return FrameStore(files)
 
 
+#: Largest integer option (beyond it no frame or mode count exists).
+MAX_INT = 2 ** 62
+
+
+def _strain(text):
+    """A strain of --gamma0: finite, 0 or in [1e-30, 10] (the shear scene's gamma0 range)."""
+    import argparse
+    import math
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not (math.isfinite(value) and (value == 0 or 1e-30 <= value <= 10.0)):
+        raise argparse.ArgumentTypeError(f"must be 0 or a strain in [1e-30, 10] (a smaller "
+                                         f"one is sub-normal), got {text!r}")
+    return value
+
+
 def add_analyze_parsers(s):
     """``analyze`` and ``export`` on the shear subparsers ``s``."""
+    from fricstab.cli import _int_at_least
     a = s.add_parser("analyze", help="D2min, GR regions, phases, Spearman tables of a run")
     a.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
-    a.add_argument("--gamma0", type=float, default=None,
+    a.add_argument("--gamma0", type=_strain, default=None,
                    help="start of the analysed window (default: the run's gamma0)")
     a.add_argument("--force", action="store_true", help="overwrite analysis.json/.npz")
     a.add_argument("--partial", type=Path, default=None, metavar="DIR2",
@@ -90,14 +109,16 @@ def add_analyze_parsers(s):
                         "shift-invert ARPACK (pairs and growth rates among those k); dense: "
                         "the whole spectrum (pairs over all of it; one dense eigenvalue "
                         "problem of dof x bulk disks per slip, ~20x slower on the quick run)")
-    a.add_argument("--spectra-k", type=int, default=None, metavar="K",
+    a.add_argument("--spectra-k", type=_int_at_least(-MAX_INT, MAX_INT), default=None,
+                   metavar="K",
                    help="the window of softest eigenvalues (default 50); trade: ARPACK cost "
                         "grows ~ K, the statistics see more of the spectrum")
     e = s.add_parser("export", help="write the frames of a run for OVITO")
     e.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
     e.add_argument("--format", choices=("extxyz", "lammps"), default="extxyz",
                    help="extended XYZ (default) or LAMMPS dump text")
-    e.add_argument("--every", type=int, default=1, help="every k-th frame (default 1)")
+    e.add_argument("--every", type=_int_at_least(1, MAX_INT), default=1,
+                   help="every k-th frame (default 1)")
     e.add_argument("--force", action="store_true", help="overwrite an existing export")
 
 
@@ -123,8 +144,8 @@ def analyze(ns, argv):
         dest = Path(ns.partial).expanduser()
     else:
         run = json.loads((out / "shear.json").read_text())
-        params, dest = run["parameters"], out
-    gamma0 = params["gamma0"] if ns.gamma0 is None else ns.gamma0
+        params, dest = _run_parameters(out, run, frames), out
+    gamma0 = _recorded_gamma0(params, out, partial) if ns.gamma0 is None else ns.gamma0
     if not (math.isfinite(gamma0) and gamma0 >= 0):
         raise ParameterError(f"--gamma0 must be a finite number >= 0, got {gamma0!r}")
     from fricstab.analysis.shear_spectrum import SOFT_K, check_window
@@ -167,6 +188,54 @@ def analyze(ns, argv):
     print(f"analysis: {s.get('n_phases')} phases in {s.get('n_steps')} steps{extra}; wrote "
           f"{dest}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
     return 0
+
+
+def _run_parameters(out, run, frames):
+    """The parameters of the run's record, refused (one line, naming the key) if edited.
+
+    They must be an object whose fingerprint is the record's (``shear.json``
+    is not in its own manifest, so a hand edit shows only there) and, where the
+    frames record the run's parameters, those of the frames (the total strain
+    aside: a resumed run may extend it).
+    """
+    from fricstab.io import rundir
+    path = out / "shear.json"
+    params = run.get("parameters") if isinstance(run, dict) else None
+    if not isinstance(params, dict):
+        raise ParameterError(f"{path}: the key 'parameters' is missing or not an object "
+                             "(edited by hand?); rerun the shear run with --force")
+    _recorded_gamma0(params, out, False)
+    recorded = run.get("fingerprint")
+    if isinstance(recorded, dict) and "sha256" in recorded:
+        try:
+            now = rundir.fingerprint(params)
+        except (TypeError, ValueError):
+            now = {}
+        if now.get("sha256") != recorded["sha256"]:
+            differs = rundir.difference(recorded, now) or "other parameters"
+            raise ParameterError(f"{path}: its 'parameters' do not match its fingerprint "
+                                 f"({differs.replace(' there', ' in the fingerprint')}; edited "
+                                 "by hand?); rerun the shear run with --force")
+    scene = frames.meta.get("scene")
+    if isinstance(scene, dict):
+        differs = rundir.difference(rundir.fingerprint(scene), rundir.fingerprint(params),
+                                    free=("strain",))
+        if differs:
+            raise ParameterError(f"{path}: its 'parameters' are not those of its frames "
+                                 f"({differs.replace(' there', ' in the frames')}); rerun the "
+                                 "shear run with --force")
+    return params
+
+
+def _recorded_gamma0(params, out, partial):
+    """``gamma0`` of the run's parameters: a number (ParameterError naming the key)."""
+    g = params.get("gamma0")
+    if isinstance(g, bool) or not isinstance(g, (int, float)):
+        where = f"the frames in {out}" if partial else f"{out / 'shear.json'}"
+        raise ParameterError(f"{where}: the key 'parameters.gamma0' is missing or not a "
+                             f"number (got {g!r}); give --gamma0, or rerun the shear run "
+                             "with --force")
+    return float(g)
 
 
 def _previous(folder, setting, frames):
@@ -241,6 +310,9 @@ def export(ns):
     frames = frames_of(out)
     name = "frames.xyz" if ns.format == "extxyz" else "frames.dump"
     setting = {"format": ns.format, "every": ns.every}
+    if (out / name).is_dir():
+        raise ParameterError(f"--out: {out / name} is a folder, not an export of this run; "
+                             "move it away to export there")
     rd = ResultDir(out, "export", force=ns.force, outputs=("frames.xyz", "frames.dump"),
                    fingerprint=setting).create()
     keep = np.arange(0, frames.n_frames, ns.every)

@@ -34,7 +34,7 @@ import scipy.sparse.linalg as spla
 
 from fricstab import signals
 from fricstab.engine.jacobian import jacobian
-from fricstab.errors import ConvergenceError
+from fricstab.errors import ConvergenceError, ParameterError, check_instance, check_int, check_real
 
 __all__ = ["NewtonResult", "bordered_solve", "expand", "newton", "translation_modes",
            "touching"]
@@ -155,7 +155,19 @@ def newton(system, state, tol, max_iter=60, solver="auto", max_step=None, raise_
     ConvergenceError
         When ``max_iter`` iterations do not suffice or a step is not finite
         (with ``raise_on_failure``).
+    ParameterError
+        A wrong type, ``tol < 0``, ``max_iter < 0``, an unknown solver
+        (:mod:`fricstab.errors`, input checks; a state that turns non-finite
+        fails as above).
     """
+    from fricstab.engine.system import State, System
+    check_instance("system", system, System, "a System")
+    check_instance("state", state, State, "a State")
+    check_real("tol", tol, 0.0)
+    check_int("max_iter", max_iter, 0)
+    check_real("max_step", max_step, 0.0, low_open=True, allow_none=True)
+    if solver not in ("auto", "lstsq", "bordered", "lsmr"):
+        raise ParameterError(f"solver must be auto, lstsq, bordered or lsmr, got {solver!r}")
     t0 = time.perf_counter()
     system.project(state)
     before = touching(system, state)

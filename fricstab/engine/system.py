@@ -34,7 +34,7 @@ from fricstab.errors import NumericalError, ParameterError
 from fricstab.generated.dispatch import N_HIST, N_HIST_WALL, N_PARAMS_WALL, PAIR_LAWS
 from fricstab.laws import check_parameters, get_law
 
-__all__ = ["FREE", "FIXED", "DRIVEN", "Material", "State", "System"]
+__all__ = ["FREE", "FIXED", "DRIVEN", "Material", "State", "System", "check_system_state"]
 
 FREE, FIXED, DRIVEN = 0, 1, 2
 
@@ -65,6 +65,10 @@ class Material:
     wall_params: dict = field(default_factory=dict)
 
     def __post_init__(self):
+        for key in ("params", "wall_params"):
+            if not isinstance(getattr(self, key), dict):
+                raise ParameterError(f"{key} must be a dict of law parameters, got "
+                                     f"{type(getattr(self, key)).__name__}")
         if self.law not in PAIR_LAWS:
             raise ParameterError(f"unknown law {self.law!r}; known laws: {', '.join(PAIR_LAWS)}")
         info = get_law(self.law)
@@ -407,3 +411,9 @@ class System:
             raise NumericalError(f"non-finite {what} {comp} on particle {i}{at}", step=step,
                                  item=int(i), quantity=comp)
 
+
+def check_system_state(system, state):
+    """Check an engine System and a finite State of its particles (ParameterError)."""
+    from fricstab.errors import check_instance, check_state
+    check_instance("system", system, System, "a System")
+    return check_state("state", state, State, system.n)

@@ -3,7 +3,9 @@
 A checkpoint is ``<dir>/ckpt_<step, 12 digits>.npz`` holding the arrays the
 run needs to continue (all of its state: positions, velocities, histories,
 the frames recorded so far, the step counter ``step``) and a fingerprint: the
-JSON of the run's validated parameters.  Files are written to a temporary
+JSON of the run's validated parameters, and a SHA-256 of all of it.  A stored
+step counter that is not its name's step, or (:meth:`Checkpointer.check_step`)
+outside the run's steps, is refused as edited.  Files are written to a temporary
 name and renamed, so a run killed at any moment (even by SIGKILL) leaves
 complete checkpoints only; the latest ``keep`` are kept.
 
@@ -38,6 +40,15 @@ def _digest(arrays):
         h.update(f"{key}|{a.dtype.str}|{a.shape}|".encode())
         h.update(a.tobytes())
     return h.hexdigest()
+
+
+def _check_step(path, step, named):
+    """The stored step counter: an integer >= 0 equal to the one in the file's name."""
+    a = np.asarray(step) if step is not None else None
+    if a is None or a.shape != () or a.dtype.kind not in "iu" or int(a) < 0 or int(a) != named:
+        raise ParameterError(f"--resume: the checkpoint {path} holds the step counter "
+                             f"{None if a is None else a.tolist()!r}, not its name's step "
+                             f"{named} (edited by hand?); rerun with --force")
 
 
 def _fingerprint_text(fingerprint):
@@ -93,9 +104,13 @@ class Checkpointer:
             old.unlink(missing_ok=True)
         return path
 
-    def latest(self):
-        """The latest readable checkpoint as a dict of arrays (with ``step``), or None."""
-        for p in self._leftovers():
+    def latest(self, clean=True):
+        """The latest readable checkpoint as a dict of arrays (with ``step``), or None.
+
+        ``clean``: remove the temporary files of killed writes first (only
+        under the directory's lock: a live writer's temporary file is not ours).
+        """
+        for p in self._leftovers() if clean else ():
             p.unlink(missing_ok=True)
         for path in reversed(self._files()):
             try:
@@ -113,9 +128,23 @@ class Checkpointer:
                 raise ParameterError(f"--resume: the checkpoint {path} was made with other "
                                      f"parameters ({self._difference(stored)}); rerun with "
                                      "the same parameters, or use --force to start afresh")
+            _check_step(path, data.get("step"), int(_NAME.match(path.name).group(1)))
             data["path"] = str(path)
             return data
         return None
+
+    @staticmethod
+    def check_step(data, last, first=0):
+        """Refuse a checkpoint (from :meth:`latest`) whose step is outside ``[first, last]``.
+
+        The protocol's own bound: a step counter edited past the end of the
+        run (or before its start) would resume another run than the one asked for.
+        """
+        step = int(data["step"])
+        if not first <= step <= last:
+            raise ParameterError(f"--resume: the checkpoint {data.get('path')} is at step "
+                                 f"{step}, outside this run's steps {first}..{last} (edited "
+                                 "by hand?); rerun with --force")
 
     def _difference(self, stored):
         """The first differing key outside ``free`` in words, or None when there is none."""

@@ -17,7 +17,11 @@ the worker that computed it), so:
   restarts the worker and the scheduler reassigns that member (up to dask's
   ``distributed.scheduler.allowed-failures``, default 3 deaths per member);
   a member that *raises* is retried ``retries`` times;
-* the results read back are the stored files, whichever process wrote them.
+* the results read back are the stored files, whichever process wrote them;
+* SIGINT/SIGTERM (:mod:`fricstab.signals`, inside the command line) stop the
+  ensemble between members: the workers are stopped, the members stored so
+  far kept, and :class:`fricstab.signals.Interrupted` raised (exit 130/143); a
+  rerun (``--resume``) computes only the members not stored.
 
 Schedulers: ``"local"`` (default): a ``LocalCluster`` of ``workers`` worker
 processes, one thread each, started and stopped here; an address
@@ -34,11 +38,13 @@ import logging
 import os
 import re
 import sys
+import time
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
+from fricstab import signals
 from fricstab.io.files import atomic_write
 from fricstab.laws import ParameterError
 
@@ -49,6 +55,8 @@ _KEY = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+=-]{0,120}$")
 FINGERPRINT = "fingerprint"
 #: A damaged member file raises one of these on loading (cf. :mod:`fricstab.io.checkpoint`).
 _DAMAGED = (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile)
+#: Seconds between looks for finished members and for SIGINT/SIGTERM (fricstab.signals).
+_POLL_S = 0.1
 
 
 def member_key(label, parameters):
@@ -127,9 +135,12 @@ def _client(scheduler, workers, n_todo):
     if scheduler == "local":
         n = workers or min(os.cpu_count() or 1, max(1, n_todo))
         # the scheduler's HTTP server on a free local port: dask's default, 8787, is
-        # taken by any other cluster on the machine (a warning, then a failure)
+        # taken by any other cluster on the machine (a warning, then a failure); the
+        # workers' logs silenced: a member's error reaches the caller as its exception,
+        # and a cluster closed under busy workers (SIGINT) would log tracebacks
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+                               dashboard_address="127.0.0.1:0",
+                               silence_logs=logging.CRITICAL)
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout="10s"), None
@@ -191,6 +202,7 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
               disable=(not progress) or None, file=sys.stderr) as bar:
         if todo and scheduler == "inline":
             for k in todo:
+                signals.check(" in the ensemble")
                 try:
                     results[k] = _run_member(func, k, members[k], str(paths[k]), fps[k])
                 except Exception as exc:  # run the others, then raise the first
@@ -203,17 +215,28 @@ def run_ensemble(func, members, out_dir, *, scheduler="local", workers=None, ret
                 futures = {client.submit(_run_member, func, k, members[k], str(paths[k]),
                                          fps[k], key=f"fricstab-member-{k}",
                                          retries=retries, pure=False): k for k in todo}
-                for fut in as_completed(futures):
-                    k = futures[fut]
-                    try:
-                        res = fut.result()
-                    except Exception as exc:
-                        first_error = first_error or exc
-                    else:
-                        if _sound(paths[k], fps[k]) is None:   # a remote worker's filesystem
-                            _store(paths[k], res)
-                        results[k] = res
-                    bar.update(1)
+                done = as_completed(futures)
+                while not done.is_empty():
+                    # SIGINT/SIGTERM (fricstab.signals): stop here, the stored members kept
+                    signals.check(" in the ensemble")
+                    batch = done.next_batch(block=False)
+                    if not batch:
+                        time.sleep(_POLL_S)
+                        continue
+                    for fut in batch:
+                        k = futures[fut]
+                        try:
+                            res = fut.result()
+                        except Exception as exc:
+                            first_error = first_error or exc
+                        else:
+                            if _sound(paths[k], fps[k]) is None:   # a remote worker's disk
+                                _store(paths[k], res)
+                            results[k] = res
+                        bar.update(1)
+                # a signal that also reached the workers (Ctrl-C to the process group)
+                # may have failed their members: it is the interruption, not their error
+                signals.check(" in the ensemble")
             finally:
                 client.close()
                 if cluster is not None:

@@ -38,12 +38,15 @@ from pathlib import Path
 import numpy as np
 
 from fricstab import __version__
-from fricstab.io import rundir
+from fricstab.io import rundir, undo
 from fricstab.io.files import atomic_write, json_clean, write_json
+from fricstab.io.undo import Before as _Before
+from fricstab.io.undo import abandon_all, entries as _entries, forget_all, note_removed
 from fricstab.laws import ParameterError
 
-__all__ = ["INDEX", "ResultDir", "add_run_options", "git_revision", "json_clean", "provenance",
-           "release_all", "update_index", "versions", "write_json"]
+__all__ = ["INDEX", "ResultDir", "abandon_all", "add_run_options", "forget_all", "git_revision",
+           "json_clean", "note_removed", "provenance", "release_all", "update_index", "versions",
+           "write_json"]
 
 RECORD_VERSION = 1
 #: The directory's index of records (see :func:`_update_index`).
@@ -145,10 +148,13 @@ class ResultDir:
         self.force, self.resume, self.outputs = force, resume, tuple(outputs)
         self.fingerprint = None if fingerprint is None else rundir.fingerprint(fingerprint)
         self._names, self._folders, self._transient = set(), set(), set()
+        self._kept = set()   # what the run's folders held before it took them: not its own
         self._lock, self._within, self._created = None, within, False
         self._t0 = time.perf_counter()
         self._started = datetime.now(timezone.utc)
         _check_out_path(self.path)
+        if within is None:   # a run in progress there is not an interrupted one
+            rundir.Lock(self.path, name).refuse_if_held()
         journal = rundir.journal_path(self.path, name)
         if force:
             return
@@ -175,18 +181,27 @@ class ResultDir:
                                     if resumable else ""))
 
     def create(self):
-        """Create the directory, take its lock, clear a previous run if ``force``; returns self."""
+        """Create the directory, take its lock, clear a previous run if ``force``; returns self.
+
+        What the directory held before is noted (:class:`_Before`): a run refused
+        later (exit 2) is undone by :func:`abandon_all`, so that it leaves nothing new.
+        """
+        made = [p for p in (self.path, *self.path.absolute().parents) if not p.exists()]
         self.path.mkdir(parents=True, exist_ok=True)
+        before = _Before.of(self.path, made)
         if self._within is None:
             self._lock = rundir.Lock(self.path, self.name, " ".join(sys.argv[1:])).acquire()
             _HELD.append(self)
         elif self._within._lock is None or \
                 self._within.path.resolve() != self.path.resolve():
             raise ValueError("within= needs a created ResultDir of the same directory")
+        before.add(self)   # the lock is this run's: what it writes can be undone
         self._created = True
         if self.force:
+            old = _read_json(self.record)
+            legacy = isinstance(old, dict) and not isinstance(old.get("files"), dict)
             rundir.remove_run(self.path, self.name)
-            for n in self.outputs:   # results of a run from before manifests existed
+            for n in self.outputs if legacy else ():   # a run from before manifests existed
                 q = self.path / n
                 if q.is_dir():
                     shutil.rmtree(q, ignore_errors=True)
@@ -194,15 +209,18 @@ class ResultDir:
                     q.unlink()
             self.record.unlink(missing_ok=True)
             update_index(self.path, self.name, None)
+            _Before.of(self.path).removed()   # what it writes again is new
         elif self.resume:
             old = _read_json(rundir.journal_path(self.path, self.name)) or {}
             self._names.update(old.get("files", []))
             self._folders.update(old.get("folders", []))
+            self._kept.update(old.get("kept", []))
         self._write_journal()
         return self
 
     def _write_journal(self):
-        rundir.write_journal(self.path, self.name, self.fingerprint, self._names, self._folders)
+        rundir.write_journal(self.path, self.name, self.fingerprint, self._names, self._folders,
+                             self._kept)
 
     def register(self, relname, folder=False, transient=False):
         """Record that the run writes ``relname`` (a file, or a folder); returns its path.
@@ -213,6 +231,8 @@ class ResultDir:
         target = self._folders if folder else self._names
         if rel not in target:
             target.add(rel)
+            if folder and (self.path / rel).is_dir():   # another's files there stay its own
+                self._kept.update(f"{rel}/{e}" for e in _entries(self.path / rel))
             if transient:
                 self._transient.add(rel)
             if self._created:
@@ -251,6 +271,10 @@ class ResultDir:
 
     def file(self, relname):
         """Path of ``relname`` inside the directory (registered; parent folders made)."""
+        p = self.path / Path(relname)
+        if p.is_dir() and not p.is_symlink():
+            raise ParameterError(f"--out: {p} is a folder, not a file of this {self.name} run; "
+                                 "move it away")
         p = self.register(relname)
         p.parent.mkdir(parents=True, exist_ok=True)
         return p
@@ -285,14 +309,19 @@ class ResultDir:
         the record; the lock is released.  Returns the record.
         """
         for rel in self._transient:
-            shutil.rmtree(self.path / rel, ignore_errors=True)
+            if any(k.startswith(rel + "/") for k in self._kept):
+                rundir.remove_run_folder(self.path, rel, self._kept)
+            else:
+                shutil.rmtree(self.path / rel, ignore_errors=True)
         doc = dict(numbers)
         doc.update(provenance(self.name, parameters, seed, self.timings, argv, self._started))
         doc["seconds"] = round(time.perf_counter() - self._t0, 3)
         doc["fingerprint"] = self.fingerprint or rundir.fingerprint(parameters)
         doc["warnings"] = [dict(w) for w in WARNINGS]
-        doc["files"] = rundir.manifest(self.path, (self._names | self._folders) - self._transient)
-        doc["folders"] = sorted(self._folders - self._transient)   # removed whole by --force
+        doc["files"] = {k: v for k, v in rundir.manifest(
+            self.path, (self._names | self._folders) - self._transient).items()
+            if k not in self._kept}
+        doc["folders"] = sorted(self._folders - self._transient)   # --force: emptied of its files
         write_json(self.record, doc)
         update_index(self.path, self.name, doc)
         rundir.journal_path(self.path, self.name).unlink(missing_ok=True)
@@ -357,6 +386,9 @@ def update_index(path, name=None, doc=None):
         return
     write_json(index_path, {"index_version": RECORD_VERSION, "protocols": sorted(records),
                             "records": records})
+
+
+undo.Before.index_name, undo.Before.rebuild_index = INDEX, staticmethod(update_index)
 
 
 def _check_out_path(path):

@@ -34,7 +34,8 @@ from pathlib import Path
 from fricstab.errors import ParameterError
 from fricstab.io.files import json_clean, temporaries, write_json
 
-__all__ = ["LOCK", "Lock", "fingerprint", "journal_path", "manifest", "remove_run", "verify"]
+__all__ = ["LOCK", "Lock", "fingerprint", "journal_path", "manifest", "remove_run",
+           "remove_run_folder", "verify"]
 
 LOCK = ".fricstab.lock"
 _HASH_CHUNK = 1 << 20
@@ -106,24 +107,39 @@ class Lock:
                 if holder is None or self._stale(holder):
                     self.path.unlink(missing_ok=True)
                     continue
-                raise ParameterError(
-                    f"--out: {self.path.parent} is being written by another fricstab run "
-                    f"(pid {holder.get('pid')} on {holder.get('host')}, "
-                    f"`{holder.get('command') or holder.get('protocol')}`, since "
-                    f"{holder.get('since')}); wait for it to finish or stop it"
-                    + ("" if holder.get("host") == platform.node() else
-                       f"; if that run is gone, remove {self.path}"))
+                raise ParameterError(self._busy(holder))
             with os.fdopen(fd, "w") as fh:
                 json.dump(self.doc, fh)
             self.held = True
             return self
         raise ParameterError(f"--out: cannot take the lock {self.path}")
 
+    def _busy(self, holder):
+        return (f"--out: {self.path.parent} is being written by another fricstab run "
+                f"(pid {holder.get('pid')} on {holder.get('host')}, "
+                f"`{holder.get('command') or holder.get('protocol')}`, since "
+                f"{holder.get('since')}); wait for it to finish or stop it"
+                + ("" if holder.get("host") == platform.node() else
+                   f"; if that run is gone, remove {self.path}"))
+
+    def refuse_if_held(self):
+        """Raise the refusal naming the holder if a live writer holds the lock (else nothing).
+
+        Checked before any other look at the directory: a run in progress there
+        is not an interrupted one.
+        """
+        holder = self._holder() if self.path.exists() else None
+        mine = holder is not None and (holder.get("pid"), holder.get("host")) == \
+            (os.getpid(), platform.node())
+        if holder is not None and not mine and not self._stale(holder):
+            raise ParameterError(self._busy(holder))
+
     def _holder(self):
         try:
-            return json.loads(self.path.read_text())
+            holder = json.loads(self.path.read_text())
         except (OSError, ValueError):
             return None   # written by a killed writer mid-way: not a live one
+        return holder if isinstance(holder, dict) else None
 
     def _stale(self, holder):
         if holder.get("host") != platform.node():
@@ -193,6 +209,9 @@ def verify(folder, protocol, files=None):
                              f"({record_path.name} missing){extra}") from None
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{record_path} is not a readable record: {exc}") from None
+    if not isinstance(record, dict):
+        raise ParameterError(f"{record_path} is not a readable record: a JSON "
+                             f"{type(record).__name__}, not an object; rerun with --force")
     listed = record.get("files")
     if not isinstance(listed, dict):
         return record   # a record written before manifests existed: nothing to check
@@ -214,35 +233,60 @@ def verify(folder, protocol, files=None):
 def remove_run(folder, protocol):
     """Remove what the last run of ``protocol`` wrote (record, journal, their files); nothing else.
 
+    A complete run's files are those of its manifest: its folders go only
+    once empty, so a file put there by someone else stays.  An interrupted
+    run (journal) lists its folders, not each file in them: what is in them
+    goes, except what was there before the run took the folder (``kept``).
     Returns the removed relative paths.
     """
     folder = Path(folder)
-    names = set()
+    names, whole, kept, prune = set(), set(), set(), set()
     for path in (folder / f"{protocol}.json", journal_path(folder, protocol)):
         try:
             doc = json.loads(path.read_text())
         except (OSError, ValueError):
             continue
+        if not isinstance(doc, dict):
+            continue
         listed = doc.get("files")
         if isinstance(listed, dict):
-            names.update(listed)
+            names.update(str(x) for x in listed)
         elif isinstance(listed, list):
             names.update(str(x) for x in listed)
-        names.update(str(x) for x in doc.get("folders", []))
+        folders = [str(x) for x in doc.get("folders", []) if isinstance(x, str)] \
+            if isinstance(doc.get("folders"), list) else []
+        is_journal = path.name.startswith(".")
+        (whole if is_journal or not isinstance(listed, dict) else prune).update(folders)
+        if isinstance(doc.get("kept"), list):
+            kept.update(str(x) for x in doc["kept"])
     removed = []
     for name in sorted(names, key=len, reverse=True):
         p = folder / name
         if not p.resolve().is_relative_to(folder.resolve()):
             continue   # a hand-edited list must not reach outside the directory
-        if p.is_dir():
-            shutil.rmtree(p, ignore_errors=True)
-            removed.append(name)
-        elif p.exists():
+        if name in kept:
+            continue
+        if p.is_dir() and not p.is_symlink():
+            if name not in whole:
+                prune.add(name)   # a file's name that is now a folder: not ours
+                continue
+        elif p.exists() or p.is_symlink():
             p.unlink()
             removed.append(name)
         for tmp in temporaries(p.parent, p.name):
             tmp.unlink(missing_ok=True)
         _prune_empty(p.parent, folder)
+    for name in sorted(whole, key=len, reverse=True):
+        p = folder / name
+        if not p.resolve().is_relative_to(folder.resolve()) or not p.is_dir():
+            continue
+        remove_run_folder(folder, name, kept)
+        prune.add(name)
+        removed.append(name)
+    for name in sorted(prune, key=len, reverse=True):
+        p = folder / name
+        if p.resolve().is_relative_to(folder.resolve()) and p.is_dir():
+            _prune_empty(p, folder)
     for path in (folder / f"{protocol}.json", journal_path(folder, protocol)):
         if path.exists():
             path.unlink()
@@ -250,6 +294,28 @@ def remove_run(folder, protocol):
         for tmp in temporaries(folder, path.name):   # a killed writer's half record
             tmp.unlink(missing_ok=True)
     return removed
+
+
+def remove_run_folder(folder, name, kept=()):
+    """Empty the run's folder ``name`` of ``folder`` but for the relative paths ``kept``.
+
+    The folder goes too once empty.
+    """
+    folder = Path(folder)
+    p = folder / name
+    if p.is_symlink() or not p.is_dir():
+        return
+    for q in sorted(p.rglob("*"), key=lambda q: len(q.parts), reverse=True):
+        if str(q.relative_to(folder)) in kept:
+            continue
+        try:
+            if q.is_dir() and not q.is_symlink():
+                q.rmdir()   # emptied, unless something kept is in it
+            else:
+                q.unlink()
+        except OSError:
+            continue
+    _prune_empty(p, folder)
 
 
 def _prune_empty(path, top):
@@ -263,7 +329,8 @@ def _prune_empty(path, top):
         path = path.parent
 
 
-def write_journal(folder, protocol, fp, names, folders):
+def write_journal(folder, protocol, fp, names, folders, kept=()):
+    """The journal: the run's files and folders, and ``kept``: what its folders held before."""
     write_json(journal_path(folder, protocol),
                {"protocol": protocol, "fingerprint": fp, "files": sorted(names),
-                "folders": sorted(folders), "pid": os.getpid()})
+                "folders": sorted(folders), "kept": sorted(kept), "pid": os.getpid()})

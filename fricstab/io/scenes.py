@@ -51,6 +51,18 @@ __all__ = ["Derived", "Field", "LawChoice", "add_law_options", "law_overrides", 
 TYPES = ("int", "float", "str", "bool", "floats")
 _REGISTRY = {}
 
+#: The window of a dimensional value (a length, mass, force, stiffness, modulus):
+#: beyond it the products of a scene's scales (m R^2, k_n R^(3/2) delta^(3/2),
+#: eigenvalues k/m) leave float64, sub-normal or infinite.
+SCALE_LOW, SCALE_HIGH = 1e-30, 1e30
+SCALE_DOC = ("0 or |value| in [1e-30, 1e30] (beyond it the products of the scene's scales "
+             "leave float64)")
+
+
+def in_scale_window(value):
+    """True for 0 and for ``SCALE_LOW <= |value| <= SCALE_HIGH``."""
+    return value == 0 or SCALE_LOW <= abs(value) <= SCALE_HIGH
+
 
 def _short(value, limit=60):
     """``repr`` on one line, cut to ``limit`` characters (messages stay one line)."""
@@ -249,7 +261,8 @@ class Schema:
                              choices=self.laws.names())
             if key in self.laws.all_params():
                 return Field(key, "float", None, self.laws.units.get(key, "-"),
-                             "parameter of the contact law (fricstab laws)")
+                             "parameter of the contact law (fricstab laws)",
+                             check=in_scale_window, check_doc=SCALE_DOC)
         return None
 
     @property

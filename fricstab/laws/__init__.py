@@ -232,6 +232,9 @@ def evaluate(name, **inputs):
     ParameterError
         Naming a missing, unknown or bad argument (radii, stiffnesses and
         ``mu`` must be > 0, everything finite).
+    NumericalError
+        A force or Jacobian entry that is not finite (a separation whose
+        square overflows or underflows).
     """
     import numpy as np
 
@@ -248,4 +251,9 @@ def evaluate(name, **inputs):
     f = np.empty(len(law.outputs))
     jac = np.empty((len(law.outputs), len(law.coords)))
     law.force_jacobian(*(float(inputs[k]) for k in law.inputs), f, jac)
+    if not (np.isfinite(f).all() and np.isfinite(jac).all()):   # e.g. |d| overflows or underflows
+        from fricstab.errors import NumericalError
+        raise NumericalError(f"{name}: non-finite force or Jacobian at the inputs "
+                             f"{', '.join(f'{k}={inputs[k]!r}' for k in law.inputs)} "
+                             "(a separation beyond the range of doubles)", quantity="force")
     return f, jac

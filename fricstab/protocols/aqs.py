@@ -42,12 +42,14 @@ from fricstab import signals
 from fricstab.analysis.spectrum import complex_pairs, growth_rate, pair_indicator, tracking_radius
 from fricstab.engine import fire, jacobian, newton
 from fricstab.engine.newton import touching, translation_modes
-from fricstab.errors import ConvergenceError, ParameterError
+from fricstab.engine.system import check_system_state
+from fricstab.errors import ConvergenceError, ParameterError, check_real
 from fricstab.protocols.ramp import _match
 from fricstab.protocols.stepstrain import affine_step, shear_stress
 from fricstab.scenes.packing_relax import singular_guard
 
-__all__ = ["AQSResult", "Event", "MAX_STEP", "ZERO_CLUSTER", "check_strain", "pairs",
+__all__ = ["AQSResult", "Event", "MAX_STEP", "TOL_ULPS", "ZERO_CLUSTER", "check_strain",
+           "check_tol", "pairs",
            "reduced_matrix", "relax_step", "run_aqs", "spectrum"]
 
 MAX_STEP = 2e-3        # largest coordinate change of one Newton iteration, in d
@@ -60,13 +62,30 @@ EVENT_COLUMNS = ("kind", "step", "gamma_lo", "gamma_hi", "center", "radius", "bi
 
 def check_strain(strain, dgamma):
     """``dgamma > 0`` finite and ``strain >= dgamma`` (ParameterError naming the option)."""
-    if not (isinstance(dgamma, (int, float)) and np.isfinite(dgamma) and dgamma > 0):
+    real = (int, float, np.integer, np.floating)
+    if not (isinstance(dgamma, real) and np.isfinite(dgamma) and dgamma > 0):
         raise ParameterError(f"--dgamma must be a finite number > 0, got {dgamma!r}")
-    if not (isinstance(strain, (int, float)) and np.isfinite(strain) and strain >= dgamma):
+    if not (isinstance(strain, real) and np.isfinite(strain) and strain >= dgamma):
         raise ParameterError(f"--strain must be a finite number >= --dgamma = {dgamma:g}, "
                              f"got {strain!r}")
     if strain / dgamma > 10_000_000:
         raise ParameterError(f"--strain / --dgamma = {strain / dgamma:.3g} steps; at most 1e7")
+
+
+#: The finest bracket the bisection resolves, in units of the spacing of doubles at the
+#: final strain (its midpoints stop being new strains a few ulps apart).
+TOL_ULPS = 4
+
+
+def check_tol(tol, strain):
+    """``tol`` finite, > 0 and at least :data:`TOL_ULPS` ulps of ``strain`` (ParameterError)."""
+    if not (isinstance(tol, (int, float)) and np.isfinite(tol) and tol > 0):
+        raise ParameterError(f"--tol must be a finite number > 0, got {tol!r}")
+    floor = TOL_ULPS * float(np.spacing(abs(float(strain))))
+    if tol < floor:
+        raise ParameterError(f"--tol {tol:g} is below what the bisection can resolve at "
+                             f"strain {strain:g}: {TOL_ULPS} ulps of the strain = {floor:.3g}; "
+                             f"give --tol >= {floor:.3g}")
 
 
 def reduced_matrix(k, gmass, n_free, dof):
@@ -277,9 +296,10 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
     ConvergenceError
         A relaxation that does not converge (``on_failure="raise"``).
     """
+    check_system_state(system, state)
     check_strain(strain, dgamma)
-    if not (np.isfinite(tol) and tol > 0):
-        raise ParameterError(f"--tol must be a finite number > 0, got {tol!r}")
+    check_tol(tol, strain)
+    check_real("f_tol", f_tol, 0.0, low_open=True)
     t0 = time.perf_counter()
     n_steps = int(np.floor(strain / dgamma + 1e-9))
     grid = dgamma * np.arange(n_steps + 1)

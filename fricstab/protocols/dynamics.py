@@ -28,9 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from fricstab.engine import Controls, State, run
-from fricstab.errors import NumericalError
-from fricstab.scenes.chain import (chain_system, legacy_order, rest_overlap, wall_slots,
-                                   wall_stiffness)
+from fricstab.errors import (MAX_STEPS, NumericalError, check_finite_array, check_int,
+                             check_real, check_steps)
+from fricstab.scenes.chain import (chain_system, check_chain, legacy_order, rest_overlap,
+                                   wall_slots, wall_stiffness)
 
 __all__ = ["VerletResult", "default_dt", "perturbed", "relax_damped", "run_dynamics"]
 
@@ -118,6 +119,11 @@ def relax_damped(scene, state, nu=0.01, dt=None, tol=1e-12, max_steps=50_000_000
         ``state`` (relaxed copy), ``velocity``, ``residual``, ``steps``,
         ``converged``, ``seconds``.
     """
+    check_chain(scene, state)
+    check_real("nu", nu, 0.0)
+    check_real("dt", dt, 0.0, low_open=True, allow_none=True)
+    check_real("tol", tol, 0.0, low_open=True)
+    check_int("max_steps", max_steps, 1, MAX_STEPS)
     if dt is None:
         dt = default_dt(scene, 0.05)
     system = chain_system(scene)
@@ -188,8 +194,16 @@ def run_dynamics(scene, state, velocity=None, dt=None, duration=100.0, frames=20
     NumericalError
         A force or position became NaN or inf (the message names the step and disk).
     """
+    check_chain(scene, state)
+    if velocity is not None:
+        check_finite_array("velocity", velocity, shape=state.v.shape)
+    check_real("dt", dt, 0.0, low_open=True, allow_none=True)
+    check_real("duration", duration, 0.0, low_open=True)
+    check_int("frames", frames, 1, MAX_STEPS)
+    check_real("nu", nu, 0.0)
     if dt is None:
         dt = default_dt(scene, 0.02)
+    check_steps("run_dynamics", duration / dt)
     system = chain_system(scene)
     n_steps = int(np.ceil(duration / dt))
     every = max(1, n_steps // frames)

@@ -13,8 +13,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from fricstab.analysis.spectrum import decompose
+from fricstab.errors import ParameterError, check_real
 from fricstab.protocols.dynamics import run_dynamics
-from fricstab.scenes.chain import chain_system, forces_and_jacobian, mass_vector, rest_overlap
+from fricstab.scenes.chain import (chain_system, check_chain, forces_and_jacobian, mass_vector,
+                                   rest_overlap)
 
 __all__ = ["GrowthCheck", "measure_growth"]
 
@@ -64,9 +66,15 @@ def measure_growth(scene, state, amplitude=1e-9, e_folds=12.0, dt=None):
 
     Raises
     ------
-    ValueError
-        If the state has no unstable mode.
+    ParameterError
+        If the state has no unstable mode (a subclass of ValueError), or an
+        argument is of the wrong type or out of range (module
+        :mod:`fricstab.errors`, "input checks").
     """
+    check_chain(scene, state)
+    check_real("amplitude", amplitude, 0.0, low_open=True)
+    check_real("e_folds", e_folds, 0.0, low_open=True)
+    check_real("dt", dt, 0.0, low_open=True, allow_none=True)
     _, jac = forces_and_jacobian(scene, state)
     spec = decompose(jac, mass_vector(scene))
     rates = np.sqrt(spec.eigenvalues.astype(complex)).real
@@ -74,7 +82,7 @@ def measure_growth(scene, state, amplitude=1e-9, e_folds=12.0, dt=None):
     k = int(np.argmax(rates))
     predicted = float(rates[k])
     if predicted <= 0:
-        raise ValueError("the state has no unstable mode")
+        raise ParameterError("the state has no unstable mode")
     n, dof = scene.n, scene.dof
     right = spec.right[:, k].real
     right /= np.abs(right).max()

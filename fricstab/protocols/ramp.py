@@ -30,8 +30,9 @@ from scipy.optimize import linear_sum_assignment
 from fricstab.analysis.spectrum import (complex_pairs, decompose, growth_rate, pair_indicator,
                                         tracking_radius)
 from fricstab.engine import newton
-from fricstab.errors import ConvergenceError
-from fricstab.scenes.chain import (chain_system, forces_and_jacobian, initial_state,
+from fricstab.errors import (ConvergenceError, check_bool, check_instance, check_int, check_real,
+                             check_steps)
+from fricstab.scenes.chain import (chain_system, check_chain, forces_and_jacobian, initial_state,
                                    mass_vector, reference_stiffness, rest_overlap)
 
 __all__ = ["Event", "NewtonResult", "RampResult", "locate_event", "ramped_equilibrium",
@@ -76,6 +77,10 @@ def relax_newton(scene, state, tol=1e-12, max_iter=60, max_step=None):
         ``state`` (the relaxed copy), ``residual``, ``iterations``,
         ``converged``, ``seconds``.
     """
+    check_chain(scene, state)
+    check_real("tol", tol, 0.0, low_open=True)
+    check_int("max_iter", max_iter, 0)
+    check_real("max_step", max_step, 0.0, low_open=True, allow_none=True)
     if max_step is None:
         max_step = 0.1 * rest_overlap(scene) + 1e-3 * abs(scene.fx) / reference_stiffness(scene)
     s = state.copy()
@@ -104,7 +109,13 @@ def ramped_equilibrium(scene, fx, step=1e-3):
     ------
     ConvergenceError
         Naming the F_x of a step without equilibrium.
+    ParameterError
+        A wrong type, a NaN or inf, ``step <= 0`` or too many steps.
     """
+    check_chain(scene)
+    check_real("fx", fx)
+    check_real("step", step, 0.0, low_open=True)
+    check_steps("ramped_equilibrium", abs(fx) / step)
     state = _equilibrium(scene, initial_state(scene.with_fx(0.0)), 0.0)[0]
     n_steps = max(1, int(np.ceil(abs(fx) / step)))
     for f in np.linspace(0.0, fx, n_steps + 1)[1:]:
@@ -138,6 +149,10 @@ class RampResult:
     events: list
     states: list = field(repr=False, default_factory=list)
     seconds: float = 0.0
+
+
+#: The most F_x steps of one :func:`run_ramp` (each a Newton relaxation and a spectrum).
+RAMP_MAX_STEPS = 10**7
 
 
 def _newton(scene, state):
@@ -254,7 +269,20 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, re
     ------
     ConvergenceError
         A step without equilibrium, naming its F_x.
+    ParameterError
+        A scene that is not a :class:`ChainScene`, ``fx_max < 0``, ``step <= 0``,
+        ``tol <= 0``, a NaN or inf, or more than :data:`RAMP_MAX_STEPS` steps
+        (:mod:`fricstab.errors`, input checks).
     """
+    check_chain(scene)
+    check_real("fx_max", fx_max, 0.0)
+    check_real("step", step, 0.0, low_open=True)
+    check_real("tol", tol, 0.0, low_open=True)
+    check_bool("keep_states", keep_states)
+    check_bool("locate", locate)
+    if not callable(relax):
+        check_instance("relax", relax, type(_newton), "a callable (relax_newton, relax_damped)")
+    check_steps("run_ramp", fx_max / step, RAMP_MAX_STEPS)
     t0 = time.perf_counter()
     mass = mass_vector(scene)
     state, _ = _equilibrium(scene, initial_state(scene.with_fx(0.0)), 0.0, relax)

@@ -43,8 +43,9 @@ import time
 import numpy as np
 
 from fricstab.engine import Controls, State, run
-from fricstab.errors import ConvergenceError, NumericalError
-from fricstab.scenes.shear import HISTORY_UNITS
+from fricstab.errors import (MAX_STEPS, ConvergenceError, NumericalError, check_instance,
+                             check_int)
+from fricstab.scenes.shear import HISTORY_UNITS, Cell
 from fricstab.signals import Interrupted
 
 __all__ = ["PREP_STAGE_STEPS", "ShearRun", "prepare"]
@@ -73,6 +74,7 @@ class ShearRun:
     """
 
     def __init__(self, cell):
+        check_instance("cell", cell, Cell, "a Cell (make_cell)")
         self.cell = cell
         self.system = cell.system()
         self.state = self.system.state(cell.pos)
@@ -105,7 +107,11 @@ class ShearRun:
 
     # ---------------------------------------------------------------- stepping
     def advance(self, nsteps):
-        """Run ``nsteps`` steps; NumericalError naming the step and item on a blow-up."""
+        """Run ``nsteps`` steps; NumericalError naming the step and item on a blow-up.
+
+        ``nsteps`` is an integer >= 0 (ParameterError otherwise).
+        """
+        check_int("nsteps", nsteps, 0, MAX_STEPS)
         step0 = int(self.scalars[STEP])
         try:
             out = run(self.system, self.state, self.dt, nsteps, self.controls,

@@ -44,7 +44,8 @@ from fricstab.analysis.rigidity import ishima_scale
 from fricstab.scenes.packing_relax import separations, singular_guard
 from fricstab.engine import newton
 from fricstab.engine.newton import touching
-from fricstab.errors import ConvergenceError, ParameterError
+from fricstab.engine.system import check_system_state
+from fricstab.errors import ConvergenceError, ParameterError, check_int, check_real
 
 __all__ = ["ConvergenceError", "StepStrain", "affine_step", "relax", "shear_stress", "step_strain", "strain"]
 
@@ -95,7 +96,17 @@ def strain(system, state, dgamma, f_tol=1e-14, max_iter=50):
         The relaxed strained state.
     result : NewtonResult
         The relaxation's residual, iterations and convergence.
+
+    Raises
+    ------
+    ParameterError
+        A wrong type, a non-finite state, ``|dgamma| > 1``, ``f_tol <= 0`` or
+        ``max_iter < 1`` (:mod:`fricstab.errors`, input checks).
     """
+    check_system_state(system, state)
+    check_real("dgamma", dgamma, -1.0, 1.0)
+    check_real("f_tol", f_tol, 0.0, low_open=True)
+    check_int("max_iter", max_iter, 1)
     s = affine_step(system, state, dgamma)
     return s, relax(system, s, f_tol, max_iter)
 
@@ -161,8 +172,9 @@ def step_strain(system, state, dgamma=1e-6, f_tol=1e-14):
     ParameterError
         ``dgamma`` out of range.
     """
-    if not (np.isfinite(dgamma) and 0 < dgamma <= 0.1):
-        raise ParameterError(f"dgamma must be in (0, 0.1], got {dgamma!r}")
+    check_system_state(system, state)
+    check_real("dgamma", dgamma, 0.0, 0.1, low_open=True)
+    check_real("f_tol", f_tol, 0.0, low_open=True)
     t0 = time.perf_counter()
     ref = state.copy()
     relax(system, ref, f_tol)

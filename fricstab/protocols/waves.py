@@ -25,8 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from fricstab.analysis.observables import centre_of_mass, first_breach, paper_time
+from fricstab.errors import MAX_STEPS, ParameterError, check_int, check_real
 from fricstab.protocols.dynamics import perturbed, run_dynamics
-from fricstab.scenes.chain import time_unit
+from fricstab.scenes.chain import check_chain, time_unit
 
 __all__ = ["Realization", "WaveFit", "first_slide", "fit_waves", "nanmean",
            "realization_member", "realization_from_arrays", "run_realization"]
@@ -95,6 +96,12 @@ def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
         sliding time ``tau_slide`` and position ``x_slide`` (paper units), and
         the centre-of-mass velocity ``v_com`` (2R per time unit).
     """
+    check_chain(scene, equilibrium, "equilibrium")
+    check_int("seed", seed, 0)
+    check_real("duration", duration, 0.0, low_open=True)
+    check_real("amplitude", amplitude, 0.0)
+    check_real("slide_threshold", slide_threshold, 0.0, low_open=True)
+    check_int("frames", frames, 2, MAX_STEPS)
     start = perturbed(scene, equilibrium, amplitude, np.random.default_rng(seed))
     res = run_dynamics(scene, start, dt=dt, duration=duration * time_unit(scene),
                        frames=frames)
@@ -103,6 +110,9 @@ def run_realization(scene, equilibrium, seed, duration=25000.0, amplitude=1e-9,
     length = 2 * scene.radius
     tau_s, x_s = first_slide(scene, t, res.positions, equilibrium.q, slide_threshold)
     late = t >= 0.7 * t[-1]
+    if np.unique(t[late]).size < 2:
+        raise ParameterError(f"duration = {duration!r} is too short: fewer than 2 frames in the "
+                             "last 30% of the run for the centre-of-mass velocity")
     v = float(np.polyfit(t[late], centre_of_mass(res.positions)[late, 0], 1)[0]) / length
     return Realization(seed, paper_time(scene, tau), x_tau / length, tau_s, x_s / length, v)
 

@@ -41,10 +41,11 @@ import numpy as np
 
 from fricstab.engine import Material, System
 from fricstab.engine.jacobian import jacobian
+from fricstab.errors import check_instance, check_int, check_real, check_state
 from fricstab.laws import PAIR_LAW_NAMES, ParameterError, get_law
 
 __all__ = ["ChainScene", "LAW_DEFAULTS", "LAW_DOCS", "LAW_UNITS", "LEE_HURLEY_E",
-           "chain_system", "forces", "forces_and_jacobian", "initial_state", "law_defaults",
+           "chain_system", "check_chain", "forces", "forces_and_jacobian", "initial_state", "law_defaults",
            "legacy_order", "mass_vector", "pair_history", "reference_stiffness", "refusal",
            "rest_overlap", "scaled", "time_unit", "wall_history", "wall_slots",
            "wall_stiffness"]
@@ -179,16 +180,26 @@ class ChainScene:
     wall_params: dict = None
 
     def __post_init__(self):
-        if self.inertia is None:
-            object.__setattr__(self, "inertia", self.mass * self.radius ** 2 / 2.0)
-        if not isinstance(self.n, (int, np.integer)) or isinstance(self.n, bool) or self.n < 2:
-            raise ParameterError(f"n must be an integer >= 2, got {self.n!r}")
-        for key in ("radius", "mass", "fy", "inertia"):
+        check_int("n", self.n, 2)
+        for key in ("radius", "mass", "fy", "fx", "inertia"):   # numpy scalars are numbers
             v = getattr(self, key)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(f"{key} must be a finite number > 0, got {v!r}")
-        if not isinstance(self.fx, (int, float)) or not math.isfinite(self.fx):
-            raise ParameterError(f"fx must be a finite number, got {self.fx!r}")
+            if isinstance(v, (np.integer, np.floating)):
+                object.__setattr__(self, key, float(v))
+        for key in ("radius", "mass"):
+            check_real(key, getattr(self, key), 0.0, low_open=True)
+        if self.inertia is None:
+            try:
+                object.__setattr__(self, "inertia", self.mass * self.radius ** 2 / 2.0)
+            except OverflowError:
+                raise ParameterError(f"inertia m R^2 / 2 overflows for mass = {self.mass!r}, "
+                                     f"radius = {self.radius!r}; give inertia") from None
+        for key in ("fy", "inertia"):
+            check_real(key, getattr(self, key), 0.0, low_open=True)
+        check_real("fx", self.fx)
+        check_instance("law", self.law, str, "a law name (str)")
+        for key in ("params", "wall_params"):
+            if getattr(self, key) is not None:
+                check_instance(key, getattr(self, key), dict, "a dict of law parameters or None")
         given = {**(self.params or {}), **(self.wall_params or {})}
         info = get_law(self.law) if self.law in PAIR_LAW_NAMES else None
         if info is None:
@@ -230,6 +241,17 @@ class ChainScene:
         return (int(self.n), float(self.radius), float(self.mass), float(self.fy),
                 float(self.inertia), self.law, tuple(sorted(self.params.items())),
                 tuple(sorted(self.wall_params.items())))
+
+
+def check_chain(scene, state=..., name="state"):
+    """The front door's checks of a chain protocol: a ChainScene and a finite (N, 3) State.
+
+    Raises :class:`ParameterError` naming the argument; returns nothing.
+    """
+    from fricstab.engine import State
+    check_instance("scene", scene, ChainScene, "a ChainScene")
+    if state is not ...:
+        check_state(name, state, State, scene.n)
 
 
 @functools.lru_cache(maxsize=64)

@@ -22,7 +22,8 @@ import numpy as np
 
 from fricstab.io.files import atomic_write
 from fricstab.io.jacobian_export import write_state_jacobian
-from fricstab.io.scenes import Derived, Field, LawChoice, Schema, register, resolve
+from fricstab.io.scenes import (SCALE_DOC, Derived, Field, LawChoice, Schema, in_scale_window,
+                                register, resolve)
 from fricstab.scenes.chain import (LAW_DEFAULTS, LAW_DOCS, LAW_UNITS, ChainScene, chain_system,
                                    legacy_order, refusal, time_unit)
 
@@ -38,18 +39,21 @@ def _law_choice():
 
 
 # Units: Charan's, length 2R = 1 (R = 0.5), m = 1; forces in kn (2R)^(3/2) units.
+_WHY = "in [1e-30, 1e30] (beyond it the products of the scene's scales leave float64)"
 CHAIN_SCHEMA = register(Schema("chain", "chain of disks on a flat substrate (Charan et al.)", (
     Field("n", "int", 10, "-", "number of disks (periodic ring in x, period 2 N R)",
           low=2, high=2000),
     Field("radius", "float", 0.5, "length", "disk radius R (2R = 1 is Charan's length unit)",
-          low=0.0, low_open=True, cli=""),
-    Field("mass", "float", 1.0, "mass", "disk mass m", low=0.0, low_open=True, cli=""),
+          low=0.0, low_open=True, check=in_scale_window, check_doc=_WHY, cli=""),
+    Field("mass", "float", 1.0, "mass", "disk mass m", low=0.0, low_open=True,
+          check=in_scale_window, check_doc=_WHY, cli=""),
     Field("fy", "float", 0.1, "force", "pressing force F_y on every disk", low=0.0,
-          low_open=True),
+          low_open=True, check=in_scale_window, check_doc=_WHY),
     Field("fx", "float", 0.0, "force", "pushing force F_x on disk 0 (ramp, jacobian, dynamics set it: --fx)",
-          cli=""),
+          check=in_scale_window, check_doc=SCALE_DOC, cli=""),
     Field("inertia", "float", None, "mass length^2", "moment of inertia I",
-          low=0.0, low_open=True, default_doc="m R^2 / 2 (uniform disk)"),
+          low=0.0, low_open=True, check=in_scale_window, check_doc=_WHY,
+          default_doc="m R^2 / 2 (uniform disk)"),
 ), laws=_law_choice()))
 
 #: Unit names of the chain's files (dofs.json).

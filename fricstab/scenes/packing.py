@@ -45,7 +45,7 @@ from tqdm import tqdm
 
 from fricstab.engine import Material, System, fire
 from fricstab.engine.contacts import build
-from fricstab.errors import ConvergenceError, ParameterError
+from fricstab.errors import MAX_STEPS, ConvergenceError, ParameterError, check_steps
 from fricstab.scenes.packing_place import diameters, place
 
 __all__ = ["ConvergenceError", "KN", "Packing", "find_contacts", "fold", "frictionless_system",
@@ -53,8 +53,11 @@ __all__ = ["ConvergenceError", "KN", "Packing", "find_contacts", "fold", "fricti
 
 KN = 1.0                 # the unit of stiffness
 PHI_MAX = 0.95
+PHI_START_MIN = 1e-6     # below it the placement box overflows (front-door check)
 PHI_START_MAX = 0.6      # random sequential addition saturates not far above
 SKIN = 0.25              # neighbour-list skin of the compression, in d
+MAX_COMPRESSIONS = 10**7  # compression steps of one make_packing ((phi - phi_start) / dphi)
+MAX_N = 10**8            # disks of one make_packing
 MAX_REFOLDS = 4          # FIRE reruns after folding the final positions into the box
 
 
@@ -206,9 +209,9 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
         force change of one increment,
         ``~1.5 sqrt(xi) dphi / (2 phi) ~ 5e-5`` at ``dphi = 1e-3``.
     phi_start : float
-        Area fraction of the random placement, in (0, 0.6] (paper: 0.6).
+        Area fraction of the random placement, in [1e-6, 0.6] (paper: 0.6).
     max_iter : int
-        Cap on the FIRE iterations of one relaxation.
+        Cap on the FIRE iterations of one relaxation (at most 1e10).
     progress : bool
         Show a tqdm bar over the compression steps.
 
@@ -219,7 +222,8 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
     Raises
     ------
     fricstab.laws.ParameterError
-        On bad input; the message names the parameter.
+        On bad input; the message names the parameter.  Also more than 1e7
+        compression steps (``(phi - phi_start) / dphi``) or more than 1e8 disks.
     ConvergenceError
         If a FIRE relaxation exceeds ``max_iter`` iterations; the message
         names phi, the residual and the iterations.
@@ -250,7 +254,14 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
     _check_number("f_tol", f_tol, 0.0, None, allowed="a finite number > 0")
     _check_number("f_tol_compress", f_tol_compress, 0.0, None, allowed="a finite number > 0")
     _check_int("max_iter", max_iter, 1, "an integer >= 1")
+    if max_iter > MAX_STEPS or phi_start < PHI_START_MIN:
+        raise ParameterError(f"max_iter must be <= {MAX_STEPS:.0e} and phi_start >= "
+                             f"{PHI_START_MIN:g}, got {max_iter!r} and {phi_start!r}")
     phi, phi_start, dphi = float(phi), float(phi_start), float(dphi)
+    check_steps("make_packing: (phi - phi_start) / dphi", (phi - phi_start) / dphi,
+                MAX_COMPRESSIONS)
+    if n > MAX_N:
+        raise ParameterError(f"n must be an even integer in [4, {MAX_N:.0e}], got {n!r}")
     n, seed, max_iter = int(n), int(seed), int(max_iter)
 
     diameter = diameters(n)

@@ -25,10 +25,10 @@ import numpy as np
 
 from fricstab._numerics import cylinder_lambda
 from fricstab.engine import Material, System, newton
-from fricstab.errors import ParameterError
+from fricstab.errors import ParameterError, check_instance, check_int, check_real
 from fricstab.io.scenes import LawChoice
 from fricstab.scenes.packing_relax import relax_normal, singular_guard
-from fricstab.scenes.packing import KN, find_contacts, frictionless_system, hertz_forces
+from fricstab.scenes.packing import KN, Packing, find_contacts, frictionless_system, hertz_forces
 
 __all__ = ["LAWS", "Backbone", "Frictional", "SKIN", "backbone", "frictional", "material",
            "packing_system", "rattler_mask", "with_kt"]
@@ -117,6 +117,8 @@ def material(law="ishima", **params):
     if unknown:
         raise ParameterError(f"{unknown[0]} is not a parameter of law {law} "
                              f"(it takes {', '.join(pair + wall)})")
+    for key, value in params.items():
+        check_real(key, value)
     values = {**LAWS.defaults[law], **params}
     return Material(law, {k: float(values[k]) for k in pair},
                     {k: float(values[k]) for k in wall})
@@ -202,6 +204,9 @@ def backbone(packing, z_th=2, f_tol=1e-14):
         ``n_total`` (particles of the packing, rattlers included: the N of
         the DOS normalization, Eq. 23) and ``rattler_force``.
     """
+    check_instance("packing", packing, Packing, "a Packing (make_packing)")
+    check_int("z_th", z_th, 0)
+    check_real("f_tol", f_tol, 0.0, low_open=True)
     radius = packing.diameter / 2
     pairs, sep = find_contacts(packing.pos, radius, packing.box)
     rattler = rattler_mask(pairs, len(radius), z_th)
@@ -224,6 +229,11 @@ def backbone(packing, z_th=2, f_tol=1e-14):
                     rattler_force)
 
 
+def _check_bb_mat(bb, mat):
+    check_instance("bb", bb, (Backbone, Packing), "a Backbone (backbone) or a Packing")
+    check_instance("mat", mat, Material, "a Material (packing_material)")
+
+
 def packing_system(bb, mat, skin=SKIN):
     """The periodic :class:`~fricstab.engine.System` of a backbone (or packing) under a law.
 
@@ -242,6 +252,8 @@ def packing_system(bb, mat, skin=SKIN):
         Periodic in x and y (side ``bb.box``), masses ``~ d^2`` (a large disk
         m = 1), inertias ``m d^2 / 8``, every particle free.
     """
+    _check_bb_mat(bb, mat)
+    check_real("skin", skin, 0.0)
     radius = np.asarray(bb.radius, float)
     mass = (2 * radius) ** 2
     return System(mat, radius, mass, mass * (2 * radius) ** 2 / 8, lx=bb.box, ly=bb.box,
@@ -301,6 +313,9 @@ def frictional(bb, mat, f_tol=1e-14, max_iter=60):
     fricstab.errors.ConvergenceError
         When the relaxation does not reach ``f_tol`` in ``max_iter`` iterations.
     """
+    _check_bb_mat(bb, mat)
+    check_real("f_tol", f_tol, 0.0, low_open=True)
+    check_int("max_iter", max_iter, 1)
     system = packing_system(bb, mat)
     state = system.state(bb.pos)
     f = system.forces(state)[:, :system.dof]

@@ -69,7 +69,8 @@ import numpy as np
 
 from fricstab.engine import Material, System
 from fricstab.errors import ParameterError
-from fricstab.io.scenes import Derived, Field, LawChoice, Schema, register, validate
+from fricstab.io.scenes import (SCALE_HIGH, SCALE_LOW, Derived, Field, LawChoice, Schema,
+                                in_scale_window, register, validate)
 
 __all__ = ["SCHEMA", "LAWS", "HISTORY_UNITS", "ISHIMA_KT_FACTOR", "Units", "Cell", "make_cell", "material",
            "restitution", "typical_overlap", "units_of"]
@@ -151,49 +152,58 @@ LAWS = LawChoice(
     units=PARAM_UNITS,
 )
 
+_SCALE_WHY = "beyond which the products of the cell's scales leave float64"
+_STEPS_WHY = "below it the steps per strain grow past any run"
+_TINY = "0 or >= 1e-30 (a sub-normal value leaves float64 in its products)"
+
 SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (Lee & Hurley)", (
-    Field("n", "int", 300, "-", "bulk disks (paper: ~1,000; --preset paper)", low=4),
-    Field("r_min", "float", 0.5e-6, "m", "smallest bulk radius", low=0.0, low_open=True),
-    Field("r_max", "float", 1.0e-6, "m", "largest bulk radius (>= r_min)", low=0.0,
-          low_open=True),
+    Field("n", "int", 300, "-", "bulk disks (paper: ~1,000; --preset paper)", low=4,
+          high=10 ** 9, check_doc="beyond 1e9 no machine holds the cell"),
+    Field("r_min", "float", 0.5e-6, "m", "smallest bulk radius", low=SCALE_LOW, high=SCALE_HIGH, check_doc=_SCALE_WHY),
+    Field("r_max", "float", 1.0e-6, "m", "largest bulk radius (>= r_min)", low=SCALE_LOW, high=SCALE_HIGH, check_doc=_SCALE_WHY),
     Field("aspect", "float", 1.0, "-", "lx / height of the dense cell", low=0.1, high=10.0),
     Field("modulus", "float", PAPER_ESTAR, "Pa",
           "contact modulus E* = E/(2(1-nu^2)) of the cell (paper: E = 1 GPa, nu = 0.2): "
           "pressure unit, N = E* lx/kappa, time step; lee_hurley's E defaults to it",
-          low=0.0, low_open=True),
-    Field("density", "float", 2500.0, "kg/m^3", "density", low=0.0, low_open=True),
-    Field("alpha_n", "float", 0.1, "-", "normal damping ratio (A4)", low=0.0, high=1.0),
-    Field("alpha_t", "float", 0.1, "-", "tangential damping ratio (A12)", low=0.0, high=1.0),
-    Field("eta_r", "float", 0.3, "-", "rolling viscous damping ratio (A20)", low=0.0, high=1.0),
+          low=SCALE_LOW, high=SCALE_HIGH, check_doc=_SCALE_WHY),
+    Field("density", "float", 2500.0, "kg/m^3", "density", low=SCALE_LOW, high=SCALE_HIGH, check_doc=_SCALE_WHY),
+    Field("alpha_n", "float", 0.1, "-", "normal damping ratio (A4)", low=0.0, high=1.0,
+          check=in_scale_window, check_doc=_TINY),
+    Field("alpha_t", "float", 0.1, "-", "tangential damping ratio (A12)", low=0.0, high=1.0,
+          check=in_scale_window, check_doc=_TINY),
+    Field("eta_r", "float", 0.3, "-", "rolling viscous damping ratio (A20)", low=0.0, high=1.0,
+          check=in_scale_window, check_doc=_TINY),
     Field("inertial_number", "float", 1e-4, "-", "I = gamma_dot d sqrt(rho/P) (paper: 4e-6)",
-          low=0.0,
-          low_open=True, high=0.1),
+          low=1e-9, high=0.1, check_doc=_STEPS_WHY + " (~ 1/I)"),
     Field("kappa", "float", 1e3, "-", "stiffness number E*/P, P = N/lx (paper: 1e4)",
-          low=10.0),
+          low=10.0, high=1e8, check_doc="above it the steps per strain (~ sqrt(kappa)) grow "
+          "past any run"),
     Field("dgamma", "float", 1e-5, "-", "shear strain between output frames (paper: 7.2e-7)",
           low=0.0,
           low_open=True, high=0.01),
     Field("strain", "float", 0.06, "-", "total shear strain (paper: 0.1156 = 0.022 + 130,000 x 7.2e-7); --resume with a larger one extends a run",
           low=0.0, low_open=True, high=10.0),
     Field("gamma0", "float", 0.022, "-", "start of the stick-slip regime for the analysis",
-          low=0.0),
-    Field("seed", "int", 0, "-", "seed of the random radii and placement", low=0),
+          low=0.0, high=10.0, check=in_scale_window, check_doc=_TINY),
+    Field("seed", "int", 0, "-", "seed of the random radii and placement", low=0,
+          high=2 ** 63 - 1),
     Field("dt_frac", "float", 0.15, "-", "time step bound / t_c, t_c = r_min sqrt(rho/2E*)",
-          low=0.0, low_open=True, high=1.0),
-    Field("skin", "float", 0.2, "mean radius", "neighbour-list skin", low=0.0, low_open=True,
-          high=2.0),
+          low=1e-6, high=1.0, check_doc=_STEPS_WHY + " (~ 1/dt_frac)"),
+    Field("skin", "float", 0.2, "mean radius", "neighbour-list skin", low=1e-6, high=2.0,
+          check_doc="below it the list is rebuilt at every step"),
     Field("servo_gain", "float", 0.1, "-",
           "shear servo: v_y = -g (N_target - N), g = servo_gain h0 / (E* lx t_c)",
-          low=0.0, low_open=True, high=1.0),
+          low=1e-6, high=1.0, check_doc="below it the servo does not hold N"),
     Field("prep_phi", "float", 0.45, "-", "area fraction of the random placement", low=0.1,
           high=0.5),
     Field("prep_speed", "float", 1e-3, "sqrt(E*/rho)", "largest wall speed while preparing",
-          low=0.0, low_open=True, high=0.1),
+          low=1e-9, high=0.1, check_doc="below it the walls do not move within any run"),
     Field("prep_tol", "float", 0.01, "-", "preparation ends at |N/N_target - 1| below this",
-          low=0.0, low_open=True, high=0.5),
+          low=1e-12, high=0.5, check_doc="below it round-off never meets it"),
     Field("prep_ke", "float", 1e-7, "P d^2", "... and mean kinetic energy below this",
-          low=0.0, low_open=True),
-    Field("prep_max_steps", "int", 3_000_000, "-", "preparation step limit", low=1),
+          low=SCALE_LOW, high=SCALE_HIGH, check_doc=_SCALE_WHY),
+    Field("prep_max_steps", "int", 3_000_000, "-", "preparation step limit", low=1,
+          high=10 ** 12),
     Field("checkpoint_every", "int", 500, "frames", "checkpoint (and frame chunk) interval",
           low=1),
 ), laws=LAWS))
@@ -368,6 +378,9 @@ def make_cell(params):
     ParameterError
         An unknown key or a value out of range, naming it.
     """
+    if not isinstance(params, dict):
+        raise ParameterError(f"params must be a dict of the shear scene's keys, got "
+                             f"{type(params).__name__}")
     p = params if "law_params" in params else validate("shear", params)
     if p["r_max"] < p["r_min"]:
         raise ParameterError(f"r_max = {p['r_max']:g} must be >= r_min = {p['r_min']:g}")
