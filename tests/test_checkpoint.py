@@ -60,14 +60,20 @@ def test_check_finite_names_item_component_and_step():
     assert err.value.step == 5 and err.value.item == 2
 
 
-def test_dynamics_stops_at_the_first_nonfinite_force():
-    from fricstab.protocols.dynamics import run_dynamics
+def test_dynamics_stops_at_the_first_nonfinite_force(monkeypatch):
+    from fricstab.errors import ParameterError
+    from fricstab.protocols import dynamics
     from fricstab.scenes.chain import ChainScene, initial_state
     scene = ChainScene(n=3)
     v = np.zeros((3, 3))
     v[1, 0] = np.nan             # disk 1 moves to NaN in the first drift (its neighbours' forces too)
+    # the front door refuses a NaN velocity before the engine runs ...
+    with pytest.raises(ParameterError, match="velocity must be finite"):
+        dynamics.run_dynamics(scene, initial_state(scene), velocity=v, duration=1.0)
+    # ... and behind it the engine stops at the first non-finite position it meets
+    monkeypatch.setattr(dynamics, "check_finite_array", lambda *a, **k: a[1])
     with pytest.raises(NumericalError, match=r"^non-finite position of disk 1 at Verlet step 1$"):
-        run_dynamics(scene, initial_state(scene), velocity=v, duration=1.0)
+        dynamics.run_dynamics(scene, initial_state(scene), velocity=v, duration=1.0)
 
 
 def test_numerical_failure_exits_4(tmp_path, capsys, monkeypatch):

@@ -33,7 +33,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from fricstab._numerics import cylinder_lambda
-from fricstab.scenes.packing_friction import material, packing_system
+from fricstab.scenes.packing_friction import Backbone, material, packing_system
 from fricstab.scenes.packing_relax import separations
 
 from tests.system_proof import (
@@ -45,11 +45,13 @@ CAPS = {"zero": 0.0, "inside": 0.5, "at": 1.0, "past": 1.5}
 WORST = WorstErrors(LAWS)
 
 
-class _Box:
-    """What :func:`packing_system` needs: radii and the box side."""
+class _Box(Backbone):
+    """What :func:`packing_system` needs: radii and the box side (a Backbone, which the
+    front door asks for, with only those two fields set)."""
 
     def __init__(self, radius, box):
-        self.radius, self.box = radius, box
+        object.__setattr__(self, "radius", radius)
+        object.__setattr__(self, "box", box)
 
 
 def _overlaps(system, state):
