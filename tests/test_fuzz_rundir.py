@@ -79,6 +79,26 @@ def _lock(d, pid, protocol, command):
          "command": command}))
 
 
+def _killed_run(monkeypatch, argv, limit):
+    """Run ``argv`` in-process, killed at its (limit+1)-th file write; None if killed,
+    else the exit status."""
+    real, calls = os.replace, [0]
+
+    def replace(src, dst):
+        calls[0] += 1
+        if calls[0] > limit:
+            raise Killed()
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", replace)
+    try:
+        return main(argv)
+    except Killed:
+        return None
+    finally:
+        monkeypatch.setattr(os, "replace", real)
+
+
 steps = st.one_of(
     st.tuples(st.just("run"), st.integers(0, 1), st.sampled_from(["", "--force", "--resume"])),
     st.tuples(st.just("kill"), st.integers(0, 1), st.integers(0, 6)),
@@ -96,6 +116,8 @@ steps = st.one_of(
 @example(seq=[("kill", 0, 6)])   # killed after its record: found by CI's run
 @example(seq=[("run", 0, ""), ("edit", 3, 7), ("run", 1, "--force"), ("writer", 0, 0)])
 @example(seq=[("kill", 1, 3), ("ckpt", 1, 10 ** 9), ("run", 1, "--resume")])
+@example(seq=[("kill", 0, 2), ("run", 0, "--resume")])   # a resumed run listed its cleared
+#                                                           checkpoints in its record
 def test_directory_is_one_runs_output_or_says_why_not(command, seq, tmp_path_factory, capsys,
                                                       monkeypatch):
     protocol, key, variants, values = COMMANDS[command]
@@ -122,22 +144,7 @@ def test_directory_is_one_runs_output_or_says_why_not(command, seq, tmp_path_fac
                 if rc == 2:   # refused: nothing touched
                     assert _snapshot(d) == before, err
         elif op == "kill":
-            calls = [0]
-            real = os.replace
-
-            def replace(src, dst, _limit=b):
-                calls[0] += 1
-                if calls[0] > _limit:
-                    raise Killed()
-                return real(src, dst)
-
-            monkeypatch.setattr(os, "replace", replace)
-            try:
-                rc = main(argv + ["--force"])
-            except Killed:
-                rc = None
-            finally:
-                monkeypatch.setattr(os, "replace", real)
+            rc = _killed_run(monkeypatch, argv + ["--force"], b)
             capsys.readouterr()
             if rc == 0:
                 good = a
@@ -226,22 +233,10 @@ def test_refused_runs_leave_nothing_new_in_out(command, setup, refusal, tmp_path
         if op == "run":
             main(argv + ([b] if b and (b != "--resume" or command == "dynamics") else []))
         else:
-            real = os.replace
-            calls = [0]
-
-            def replace(src, dst, _limit=b):
-                calls[0] += 1
-                if calls[0] > _limit:
-                    raise Killed()
-                return real(src, dst)
-            monkeypatch.setattr(os, "replace", replace)
             try:
-                main(argv + ["--force"])
-            except Killed:
-                if d.exists():
+                if _killed_run(monkeypatch, argv + ["--force"], b) is None and d.exists():
                     _lock(d, _dead_pid(), protocol, "killed")
             finally:
-                monkeypatch.setattr(os, "replace", real)
                 results.release_all()
         capsys.readouterr()
     kind, a, flag, k = refusal
