@@ -229,12 +229,12 @@ class ResultDir:
         """
         rel = str(Path(relname))
         target = self._folders if folder else self._names
-        if transient:   # also when a resumed run's journal already names it
-            self._transient.add(rel)
         if rel not in target:
             target.add(rel)
             if folder and (self.path / rel).is_dir():   # another's files there stay its own
                 self._kept.update(f"{rel}/{e}" for e in _entries(self.path / rel))
+            if transient:
+                self._transient.add(rel)
             if self._created:
                 self._write_journal()
         return self.path / rel
