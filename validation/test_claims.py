@@ -190,7 +190,7 @@ def compute():
 """
 
 
-def _demo_fingerprint(tmp_path, spawn=False):
+def _demo_fingerprint(tmp_path, spawn=False, git=False):
     """A module and a section module under a scratch checkout, a claim computed under
     the tracer, and its fingerprint."""
     import importlib
@@ -210,9 +210,11 @@ def _demo_fingerprint(tmp_path, spawn=False):
                       lambda a, b: (True, ""))
         with Tracer() as tracer:
             claim.compute()
+            import subprocess
             if spawn:
-                import subprocess
                 subprocess.run([sys.executable, "-c", "pass"], check=True)
+            if git:   # what a record's revision costs: not a process that runs our code
+                subprocess.run(["git", "--version"], check=True, capture_output=True)
         return fingerprint(claim, root=tmp_path, tracer=tracer)
     finally:
         sys.path.remove(str(tmp_path / "validation"))
@@ -265,6 +267,11 @@ def test_a_computation_that_starts_a_process_counts_modules_whole(tmp_path):
     assert "functions" not in fp and "validation/_fp_demo.py" in fp["modules"]
     _edit(tmp_path / "validation" / "_fp_demo.py", "return -x", "return x")
     assert changes(fp, root=tmp_path) == ["validation/_fp_demo.py"]
+
+
+def test_git_is_not_a_process_that_hides_code(tmp_path):
+    fp = _demo_fingerprint(tmp_path, git=True)
+    assert "validation/_fp_demo.py" in fp["functions"]
 
 
 def test_numba_modules_and_tests_count_whole():

@@ -26,7 +26,8 @@ starts running; after it returns, the dependence is read off that process:
     pytest finds tests by name, so a new test changes what runs;
   - every module, when the computation started another process (``fork``,
     ``subprocess``, ``multiprocessing``, dask workers): code run there is not
-    traced here;
+    traced here (``git``, with which a record names its revision, runs none of
+    ours and does not count);
   - every module, for a claim that asks for it (``Claim.trace = False``, for
     claims whose values are timings: tracing slows Python code down).
 * the claim's own ``compute`` and what it names in its section module
@@ -204,6 +205,7 @@ class Tracer:
         self.codes = {}
         self.spawned = False
         self.active = False
+        self._harmless = 0
         self._saved = []
 
     def _trace(self, frame, event, arg):
@@ -215,6 +217,10 @@ class Tracer:
         if self.active:
             self.spawned = True
 
+    #: programs that run no Python of the checkout: starting them is not a spawn that
+    #: hides code from the tracer (``git``: the revision a record names)
+    HARMLESS = frozenset({"git"})
+
     def _wrap(self, owner, name):
         orig = getattr(owner, name, None)
         if orig is None:
@@ -222,16 +228,37 @@ class Tracer:
         tracer = self
 
         def wrapped(*a, **k):
-            tracer._flag()
+            if not tracer._harmless:
+                tracer._flag()
             return orig(*a, **k)
         self._saved.append((owner, name, orig))
         setattr(owner, name, wrapped)
+
+    def _wrap_popen(self, popen):
+        """``Popen._execute_child``: a harmless program (not a shell) is let through, and
+        the ``os.posix_spawn`` or ``fork_exec`` it calls is not counted either."""
+        orig = popen._execute_child
+        tracer = self
+
+        def wrapped(obj, args, executable, *a, **k):
+            shell = k.get("shell", a[7] if len(a) > 7 else True)
+            prog = executable or (args if isinstance(args, (str, bytes)) else args[0])
+            harmless = not shell and Path(os.fsdecode(prog)).name in tracer.HARMLESS
+            if not harmless:
+                tracer._flag()
+            tracer._harmless += harmless
+            try:
+                return orig(obj, args, executable, *a, **k)
+            finally:
+                tracer._harmless -= harmless
+        self._saved.append((popen, "_execute_child", orig))
+        popen._execute_child = wrapped
 
     def __enter__(self):
         import _posixsubprocess
         import subprocess
         self._wrap(_posixsubprocess, "fork_exec")          # multiprocessing's spawn
-        self._wrap(subprocess.Popen, "_execute_child")     # every subprocess
+        self._wrap_popen(subprocess.Popen)                 # every subprocess but git
         for name in ("system", "posix_spawn", "posix_spawnp", "spawnv", "spawnve"):
             self._wrap(os, name)
         os.register_at_fork(before=self._flag)   # cannot be removed: inactive after exit
