@@ -224,6 +224,9 @@ def test_aqs_tol_below_the_bisection_floor_is_refused(tol, p32, tmp_path, capsys
     assert not out.exists()
 
 
+@pytest.mark.slow   # 50 s idle, 200 s on a loaded 2-core machine: three AQS runs; the
+#                    folders-against-record check of a fresh run stays in the default run
+#                    (tests/test_aqs.py::test_event_folders_match_the_record_when_a_birth_...)
 def test_aqs_resume_keeps_event_folders_and_refuses_without_them(p32, tmp_path, monkeypatch,
                                                                  capsys):
     """Killed after its checkpoint at step 10 (births located before it), the run
