@@ -269,6 +269,16 @@ def test_a_computation_that_starts_a_process_counts_modules_whole(tmp_path):
     assert changes(fp, root=tmp_path) == ["validation/_fp_demo.py"]
 
 
+def test_another_trace_function_counts_modules_whole(tmp_path, monkeypatch):
+    """Code run while someone else held sys.settrace went unseen: whole modules."""
+    from claims.fingerprint import Tracer
+    with Tracer() as tracer:
+        old = sys.gettrace()
+        sys.settrace(None)
+        sys.settrace(old)
+    assert tracer.lost and sys.gettrace() is None
+
+
 def test_git_is_not_a_process_that_hides_code(tmp_path):
     fp = _demo_fingerprint(tmp_path, git=True)
     assert "validation/_fp_demo.py" in fp["functions"]

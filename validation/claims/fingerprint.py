@@ -28,6 +28,8 @@ starts running; after it returns, the dependence is read off that process:
     ``subprocess``, ``multiprocessing``, dask workers): code run there is not
     traced here (``git``, with which a record names its revision, runs none of
     ours and does not count);
+  - every module when another trace function was set while the claim ran (a
+    debugger, coverage, hypothesis's explain phase): calls may have gone unseen;
   - every module, for a claim that asks for it (``Claim.trace = False``, for
     claims whose values are timings: tracing slows Python code down).
 * the claim's own ``compute`` and what it names in its section module
@@ -204,6 +206,7 @@ class Tracer:
     def __init__(self):
         self.codes = {}
         self.spawned = False
+        self.lost = False       # someone else set a trace function: calls may be unseen
         self.active = False
         self._harmless = 0
         self._saved = []
@@ -266,9 +269,19 @@ class Tracer:
         self._old = sys.gettrace()
         sys.settrace(self._trace)
         threading.settrace(self._trace)
+        self._settrace = sys.settrace
+        tracer = self
+
+        def settrace(func):     # a debugger, coverage, hypothesis's explain phase
+            tracer.lost = True
+            return tracer._settrace(func)
+        sys.settrace = settrace
         return self
 
     def __exit__(self, *exc):
+        sys.settrace = self._settrace
+        if sys.gettrace() != self._trace:
+            self.lost = True
         sys.settrace(self._old)
         threading.settrace(None)
         for owner, name, orig in reversed(self._saved):
@@ -392,7 +405,8 @@ def fingerprint(claim, root=ROOT, tracer=None):
     for a claim that is not traced: then every loaded module counts whole)."""
     rel, names = closure(claim.compute, root)
     whole, units = {}, {}
-    ran = ran_units(tracer.codes.values(), root) if tracer and not tracer.spawned else None
+    ran = (ran_units(tracer.codes.values(), root)
+           if tracer and not (tracer.spawned or tracer.lost) else None)
     for m in sorted(loaded_modules(root)):
         text = (Path(root) / m).read_text()
         if ran is None or whole_module(m, text):
