@@ -256,39 +256,32 @@ def lambdify_values():
 
 # ------------------------------------------------------------ the claims
 
+def _proof_claim(scene, title, texts=None):
+    """A claim of the system-level proof run (one job, three scenes)."""
+    return Claim(f"engine.proof_{scene}", "engine", title, "hours",
+                 "FRICSTAB_HYPOTHESIS_PROFILE=thorough python -m pytest -s "
+                 "tests/test_chain_proof.py tests/test_packing_proof.py tests/test_shear_proof.py "
+                 f"--hypothesis-seed={HYPOTHESIS_SEED}", system_proof,
+                 show=lambda v: _proof_show(v, scene), tolerance=PROOF_TOLERANCE,
+                 check=_check_proof, verdict=lambda v: _proof_verdict(v, scene),
+                 job="engine.system_proof", texts=texts or {})
+
+
 CLAIMS = [
     # --- system-level proofs (hours)
-    Claim("engine.proof_chain", "engine",
+    _proof_claim("chain",
           "system-level proof, chain on a substrate: assembled K vs complex step of an "
           "independent reference assembly, worst over hypothesis states (overlaps to 1e-12 R, "
           "histories at 0, inside, on and past the caps), relative to max|K| (issue: <= 1e-10 of max|K|)",
-          "hours", "FRICSTAB_HYPOTHESIS_PROFILE=thorough python -m pytest -s "
-          "tests/test_chain_proof.py tests/test_packing_proof.py tests/test_shear_proof.py "
-          f"--hypothesis-seed={HYPOTHESIS_SEED}", system_proof,
-          show=lambda v: _proof_show(v, "chain"), tolerance=PROOF_TOLERANCE,
-          check=_check_proof,
-          verdict=lambda v: _proof_verdict(v, "chain"), job="engine.system_proof",
-          texts={**{f"{law}_{scene}": (lambda law, scene: lambda v:
-                                       f"{v['worst'][scene][law]['complex_step']:.1e}")(law, scene)
-                    for law in PROOF_LAWS for scene in PROOF_SCENES},
-                 "states": _states_text}),
-    Claim("engine.proof_packing", "engine",
+                 texts={**{f"{law}_{scene}": (lambda law, scene: lambda v:
+                                              f"{v['worst'][scene][law]['complex_step']:.1e}")(
+                     law, scene) for law in PROOF_LAWS for scene in PROOF_SCENES},
+                        "states": _states_text}),
+    _proof_claim("packing",
           "same, periodic packing with a Lees-Edwards offset (complex step and central "
-          "differences on separate draws); translations as zero modes (issue: <= 1e-10; 32 eps)",
-          "hours", "FRICSTAB_HYPOTHESIS_PROFILE=thorough python -m pytest -s "
-          "tests/test_chain_proof.py tests/test_packing_proof.py tests/test_shear_proof.py "
-          f"--hypothesis-seed={HYPOTHESIS_SEED}", system_proof,
-          show=lambda v: _proof_show(v, "packing"), tolerance=PROOF_TOLERANCE,
-          check=_check_proof,
-          verdict=lambda v: _proof_verdict(v, "packing"), job="engine.system_proof"),
-    Claim("engine.proof_shear", "engine",
-          "same, plane-shear cell (walls of disks, images, clamped rows); translations (issue: <= 1e-10; 32 eps)",
-          "hours", "FRICSTAB_HYPOTHESIS_PROFILE=thorough python -m pytest -s "
-          "tests/test_chain_proof.py tests/test_packing_proof.py tests/test_shear_proof.py "
-          f"--hypothesis-seed={HYPOTHESIS_SEED}", system_proof,
-          show=lambda v: _proof_show(v, "shear"), tolerance=PROOF_TOLERANCE,
-          check=_check_proof,
-          verdict=lambda v: _proof_verdict(v, "shear"), job="engine.system_proof"),
+          "differences on separate draws); translations as zero modes (issue: <= 1e-10; 32 eps)"),
+    _proof_claim("shear",
+          "same, plane-shear cell (walls of disks, images, clamped rows); translations (issue: <= 1e-10; 32 eps)"),
     # --- the product's promises (minutes, one test run)
     _test_claim("matrix",
                 "every cell of (hertz, charan, ishima, lee_hurley) x (chain, packing, shear) "

@@ -673,6 +673,22 @@ _SAMPLES = ("bit-identical on one machine (seeded FIRE); another CPU's FIRE may 
             "packings, so each sample's G may move by 3 sample standard deviations; the "
             "routes must still agree within their error models")
 
+def _sign_and_phi(suffix, sign_title, sign_tolerance, phi_title, tier, script_tier, compute):
+    """The two claims one run of packing_rigidity.py gives at a tier: the sign change of
+    G_NA (Fig. 6) and G against phi (Fig. 4)."""
+    command = f"python validation/packing_rigidity.py --tier {script_tier}"
+    job = f"packing.rigidity_{script_tier}"
+    return (
+        Claim(f"packing.gna_sign{suffix}", "packing", sign_title, tier, command, compute,
+              show=_gna_show, tolerance=sign_tolerance, check=_check_roots,
+              paper='"G_NA is positive for k_T/k_N > 2.0, G_NA ~= 0 at k_T/k_N = 2.0, and G_NA '
+                    'is negative for k_T/k_N < 2.0"',
+              verdict=_gna_verdict, job=job),
+        Claim(f"packing.g_vs_phi{suffix}", "packing", phi_title, tier, command, compute,
+              show=_phi_show, tolerance="each mean within 3 combined standard errors",
+              check=_check_phi, paper="Fig. 4 (values not tabulated; N = 1024)", job=job))
+
+
 CLAIMS = [
     # ---- seconds: the stored packing
     Claim("packing.g_modes_vs_solve", "packing",
@@ -817,23 +833,11 @@ CLAIMS = [
           paper='"results are independent of the choice of dgamma for 1.0 x 10^-6 <= dgamma <= '
                 '1.0 x 10^-4"',
           verdict=_dgamma_verdict, job="packing.rigidity_quick"),
-    Claim("packing.gna_sign", "packing",
-          "sign of G_NA (Fig. 6): root of G_NA(kT/kN) per packing (Brent in log kT, 1e-6), "
-          "N = 256, phi = 0.85, 0.86, 0.88, 0.90, seeds 0-2",
-          "minutes", "python validation/packing_rigidity.py --tier quick", rigidity_quick,
-          show=_gna_show,
-          tolerance="mean root within 3 standard errors of the record (sample-to-sample spread; "
-                    "bit-identical on one machine)",
-          check=_check_roots,
-          paper='"G_NA is positive for k_T/k_N > 2.0, G_NA ~= 0 at k_T/k_N = 2.0, and G_NA is '
-                'negative for k_T/k_N < 2.0"',
-          verdict=_gna_verdict, job="packing.rigidity_quick"),
-    Claim("packing.g_vs_phi", "packing",
-          "G against phi, N = 256, seeds 0-2 (Fig. 4)",
-          "minutes", "python validation/packing_rigidity.py --tier quick", rigidity_quick,
-          show=_phi_show, tolerance="each mean within 3 combined standard errors",
-          check=_check_phi, paper="Fig. 4 (values not tabulated; N = 1024)",
-          job="packing.rigidity_quick"),
+    *_sign_and_phi("", "sign of G_NA (Fig. 6): root of G_NA(kT/kN) per packing (Brent in log "
+                       "kT, 1e-6), N = 256, phi = 0.85, 0.86, 0.88, 0.90, seeds 0-2",
+                   "mean root within 3 standard errors of the record (sample-to-sample spread; "
+                   "bit-identical on one machine)", "G against phi, N = 256, seeds 0-2 (Fig. 4)",
+                   "minutes", "quick", rigidity_quick),
     # ---- minutes: packing_dos.py --tier quick
     Claim("packing.dos_route_exact", "packing",
           "DOS by eigh of the symmetric J vs dense eig with left/right vectors, N = 256, "
@@ -910,20 +914,10 @@ CLAIMS = [
                                                                       b["n4096"]["g"]))
                               and max(b["n4096"]["seconds"]) < 60, "G within 3 %, time < 60 s"),
           verdict=_n4096_verdict, job="packing.rigidity_medium"),
-    Claim("packing.gna_sign_4seeds", "packing",
-          "sign of G_NA (Fig. 6): root per packing, N = 256, phi = 0.85-0.90, seeds 0-3",
-          "hours", "python validation/packing_rigidity.py --tier medium", rigidity_medium,
-          show=_gna_show, tolerance="mean root within 3 standard errors of the record",
-          check=_check_roots,
-          paper='"G_NA is positive for k_T/k_N > 2.0, G_NA ~= 0 at k_T/k_N = 2.0, and G_NA is '
-                'negative for k_T/k_N < 2.0"',
-          verdict=_gna_verdict, job="packing.rigidity_medium"),
-    Claim("packing.g_vs_phi_4seeds", "packing",
-          "G against phi, N = 256, seeds 0-3 (Fig. 4)",
-          "hours", "python validation/packing_rigidity.py --tier medium", rigidity_medium,
-          show=_phi_show, tolerance="each mean within 3 combined standard errors",
-          check=_check_phi, paper="Fig. 4 (values not tabulated; N = 1024)",
-          job="packing.rigidity_medium"),
+    *_sign_and_phi("_4seeds", "sign of G_NA (Fig. 6): root per packing, N = 256, phi = "
+                   "0.85-0.90, seeds 0-3", "mean root within 3 standard errors of the record",
+                   "G against phi, N = 256, seeds 0-3 (Fig. 4)", "hours", "medium",
+                   rigidity_medium),
     Claim("packing.dos_size", "packing",
           "rotational band at N = 4096 (seed 0, kT/kN = 1e-8..1e-2) against the stored N = 256 "
           "packing (App. I)",
