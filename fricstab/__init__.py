@@ -21,7 +21,9 @@ Protocols (``fricstab.protocols``)
     :func:`run_ramp`, :func:`relax_newton`, :func:`ramped_equilibrium`,
     :func:`run_dynamics`, :func:`relax_damped`, :func:`measure_growth`, :func:`run_aqs`,
     :func:`measure_aqs_growth`,
-    :func:`run_realization`, :func:`strain`, :func:`step_strain`, :class:`ShearRun`.
+    :func:`run_realization`, :func:`strain`, :func:`step_strain`, :class:`ShearRun`,
+    :func:`run_shear` (the plane-shear cell in one call: named series of strain,
+    stresses, tau, time and servo error).
 Analyses (``fricstab.analysis``)
     :func:`decompose`, :func:`complex_pairs`, :func:`growth_rate`,
     :func:`pair_indicator`, :func:`rigidity`, :func:`linear_response`,
@@ -81,6 +83,7 @@ _NAMES = {
     "step_strain": ("fricstab.protocols.stepstrain", "step_strain"),
     "strain": ("fricstab.protocols.stepstrain", "strain"),
     "ShearRun": ("fricstab.protocols.shear_run", "ShearRun"),
+    "run_shear": ("fricstab.protocols.shear_api", "run_shear"),
     # analyses
     "decompose": ("fricstab.analysis.spectrum", "decompose"),
     "complex_pairs": ("fricstab.analysis.spectrum", "complex_pairs"),

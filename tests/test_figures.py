@@ -80,6 +80,34 @@ def test_ramp_figure_units_and_events():
     assert "birth of a pair" in legend and "death of a pair" in legend
 
 
+def test_ramp_figure_starts_im_curves_at_the_located_birth():
+    # a pair born at 0.043 between the grid points 0.04 and 0.05: its Im curve is drawn
+    # from (0.043, 0) to the first grid point, not from the grid step 0.05
+    fx = np.linspace(0.0, 0.1, 11)
+    w = -np.ones((11, 4), complex) * 100
+    w[5:, 0] += 0.5j
+    w[5:, 1] -= 0.5j
+    fig = cf.ramp_figure(SimpleNamespace(fx=fx, eigenvalues=w),
+                         [{"fx": 0.043, "kind": "birth"}], 1.0)
+    starts = [ln.get_xdata()[0] for ln in fig.axes[1].get_lines() if len(ln.get_xdata()) == 2]
+    assert 0.043 in starts
+
+
+def test_ramp_figure_without_pairs_says_so_and_names_the_scenes_kn():
+    from fricstab.scenes.chain import ChainScene, reference_stiffness
+    fx = np.linspace(0.0, 0.01, 3)
+    res = SimpleNamespace(fx=fx, eigenvalues=-np.ones((3, 4), complex))
+    scene = ChainScene(law="lee_hurley", params={"E": 100.0})   # not the default E
+    fig = cf.ramp_figure(res, [], 1.0, scene=scene)
+    texts = " ".join(t.get_text() for ax in fig.axes for t in ax.texts) + " ".join(
+        t.get_text() for t in fig.texts)
+    assert "no complex pair" in texts
+    assert "simulation's $k_n = 2000$" not in texts and "no $k_n$" in texts
+    assert f"{reference_stiffness(scene):.6g}" in texts
+    hertz = cf.units_note(ChainScene(law="hertz", params={"kn": 500.0}))
+    assert "k_n = 500" in hertz
+
+
 def test_dynamics_figure_numbers_disks_from_one_and_has_units():
     t = np.linspace(0.0, 100.0, 50)
     pos = np.random.default_rng(2).normal(size=(50, 10, 3))
@@ -190,12 +218,31 @@ def test_every_shear_figure_has_units_and_labelled_colour_bars(shear_run, name):
     fig = figs[name]()
     fig.canvas.draw()   # the tick formatters compute their offsets when drawn
     _assert_units(fig)
-    if name in ("d2min", "forces", "dforces"):
+    if name in ("d2min", "forces", "dforces", "gr"):
         assert _colorbar_count(fig) == 1
     # SI lengths are drawn in a prefixed unit, not as an axis offset.
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
             assert axis.get_major_formatter().get_offset() == "", (name, ax.get_title())
+
+
+def test_gr_map_fills_the_gr_disks_at_their_size_over_the_differential_network(shear_run):
+    # the issue's "four dots": GR disks are now filled circles of the disks' own radius,
+    # their contacts thick bonds, on the faint differential network of the same step
+    from fricstab.analysis import shear as sa
+    f, _ = shear_run
+    k = 3
+    gr = sa.gr_regions(f, k, 5.0 * f.radius[f.kind == 0].mean(), 0.05)
+    fig = sf.fig_gr_clusters(f, k, fraction=0.05)
+    ax = fig.axes[0]
+    filled = [c for c in ax.collections if type(c).__name__ == "PatchCollection"
+              and len(c.get_paths()) and c.get_facecolor().shape[0] and
+              c.get_facecolor()[0][3] > 0]
+    assert sum(len(c.get_paths()) for c in filled) == len(gr["particles"]) > 0
+    thick = [c for c in ax.collections if type(c).__name__ == "LineCollection"
+             and np.max(c.get_linewidth()) > 2]
+    assert len(thick) == 1 and len(thick[0].get_segments()) == len(gr["contacts"])
+    assert "GR: the 5 % of contacts" in " ".join(t.get_text() for t in fig.texts)
 
 
 def test_step_panels_stay_readable_with_thousands_of_steps():

@@ -260,6 +260,12 @@ CASES = {
         {"params": ["x", None, {"n": NAN}, {"n": -4}, {"seed": "x"}, {"n": 10**30}]},
         False),
     "ShearRun": (("cell",), lambda c: (fs.ShearRun, {"cell": c.cell}), {"cell": OBJS}, False),
+    "run_shear": (
+        (), lambda c: (fs.run_shear, {"n": 20, "seed": 3, "strain": 5e-5, "dgamma": 1e-5,
+                                      "kappa": 100.0, "prep_ke": 1e-3, "prep_tol": 0.1}),
+        {"preset": OBJS, "progress": OBJS, "keep_frames": OBJS, "n": INTS, "strain": NUMS,
+         "dgamma": NUMS},
+        False),
     "d2min": (
         (), lambda c: (fs.d2min, {"pos_ref": _grid(), "pos_cur": _grid() * 1.001, "lx": 4.0,
                                   "radius_cut": 1.5}),

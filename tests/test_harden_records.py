@@ -115,7 +115,8 @@ def test_shear_analyze_refuses_an_edited_record(edit, shear_run, tmp_path, capsy
     rec = json.loads((out / "shear.json").read_text())
     change, word = EDITS[edit]
     change(rec)
-    (out / "shear.json").write_text(json.dumps(rec))
+    rec[rundir.DIGEST] = rundir.record_digest(rec)   # a knowing edit (else refused earlier,
+    (out / "shear.json").write_text(json.dumps(rec))  # by the digest: test_record_digest.py)
     before = _snapshot(out)
     assert main(["shear", "analyze", "--out", str(out), "--no-spectra", "--no-progress"]) == 2
     _refused(capsys, "shear.json", word)

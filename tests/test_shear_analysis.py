@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+from scipy.stats import spearmanr
 from hypothesis import given
 from hypothesis import strategies as st
 
@@ -228,6 +229,18 @@ def test_spearman_cells_and_bins():
     assert by_bin[(0.0, 1e-4)]["status"] == "n/a (n<3)" and by_bin[(0.0, 1e-4)]["n"] == 1
     assert sa.spearman_cell([1, 2, 3], [1, 1, 1])["status"] == "n/a (constant input)"
     assert sa.spearman_cell([1, 2, 3, 4], [1, 3, 2, 4])["rho"] == pytest.approx(0.8)
+
+
+def test_spearman_small_n_p_is_exact_and_never_significant_at_n3():
+    # exact two-sided permutation p of a perfect rank order is 2/n!: 1/3 at n = 3 (never
+    # <= 0.05), 1/12 at n = 4, 2/8! at n = 8; the t approximation said p = 0 at any n
+    for n, want in ((3, 2 / 6), (4, 2 / 24), (8, 2 / 40320)):
+        cell = sa.spearman_cell(np.arange(n), np.arange(n) ** 2)
+        assert cell["rho"] == pytest.approx(1.0) and cell["p"] == pytest.approx(want, rel=1e-12)
+    assert not sa.spearman_cell([1, 2, 3], [3, 2, 1])["significant"]
+    # from EXACT_BELOW on, scipy's approximation (close to the exact p for n ~ 10)
+    big = sa.spearman_cell(np.arange(12), np.arange(12) % 5)
+    assert big["p"] == pytest.approx(spearmanr(np.arange(12), np.arange(12) % 5).pvalue)
 
 
 def test_step_metrics_top_ten_percent():

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from fricstab.analysis.modes import transverse_mode
-from fricstab.analysis.observables import centre_of_mass, first_breach, msd
+from fricstab.analysis.observables import first_breach, msd
 from fricstab.analysis.spectrum import complex_pairs
 from fricstab.protocols.dynamics import perturbed, run_dynamics
 from fricstab.protocols.ramp import ramped_equilibrium, run_ramp
@@ -65,18 +65,27 @@ def test_fig3_instability_saturates_below_the_transition(fx):
 def test_fig3_4_7_transition_to_sliding_at_0_083():
     """Paper: at 0.083 the Coulomb law is breached and the chain slides forward.
 
-    Every disk's wall contact reaches the Coulomb limit within 40,000 time
-    units, and the centre of mass then moves forward by more than 0.1 (2R).
-    A breach is seen only at a recorded frame (first_breach), so the frames
-    are 5 time units apart, as in the default `fricstab chain dynamics` run
-    (claim chain.fig3_0083): at 10 apart one disk's brief touches of the
-    limit all fall between frames.
+    The trajectory is chaotic: its floating-point path (and so which frame sees
+    a disk's first breach) differs between CPUs, so this asserts what every
+    path shares, over four realizations (perturbation seeds 0-3):
+
+    * every disk slides forward along the substrate by more than 0.1 (2R) in
+      40,000 time units.  A wall contact can displace elastically by at most
+      mu F_y / k_t = 1.75e-3 (2R) before the Coulomb cap holds its force, so a
+      displacement 57 times that is sliding, and sliding is a breached contact.
+      Measured on one CPU: 0.646-0.856 for every disk of the four seeds (a
+      margin of 6x over 0.1);
+    * at least one disk's breach is seen at a recorded frame (5 time units
+      apart, `first_breach`; measured: all 10 disks in every seed).
     """
-    r = _run(0.083, 40000.0, frames=8000)
-    tau, _ = first_breach(SCENE.with_fx(0.083), r.times, r.positions, r.wall_hist)
-    assert np.all(np.isfinite(tau))
-    com = centre_of_mass(r.positions)[:, 0]
-    assert com[-1] - com[0] > 0.1
+    elastic = SCENE.params["mu"] * SCENE.fy / SCENE.params["kt"]
+    assert 0.1 > 50 * elastic
+    for seed in range(4):
+        r = _run(0.083, 40000.0, seed=seed, frames=8000)
+        slid = r.positions[-1, :, 0] - r.positions[0, :, 0]
+        assert slid.min() > 0.1, (seed, slid)
+        tau, _ = first_breach(SCENE.with_fx(0.083), r.times, r.positions, r.wall_hist)
+        assert np.isfinite(tau).any(), seed
 
 
 def _recorded_wave_row(fx):

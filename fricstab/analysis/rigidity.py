@@ -62,9 +62,51 @@ from fricstab.engine.system import check_system_state
 from fricstab.errors import ParameterError, check_bool
 from fricstab.scenes.packing_relax import frozen_rates, separations
 
-__all__ = ["LinearResponse", "Rigidity", "affine_rates", "ishima_flipped", "ishima_scale",
-           "linear_response", "mode_sum", "rigidity", "solve_nonaffine",
-           "zero_modes"]
+__all__ = ["FORCE_BALANCE_TOL", "LinearResponse", "Rigidity", "affine_rates",
+           "check_force_balance", "ishima_flipped", "ishima_scale", "linear_response",
+           "mode_sum", "rigidity", "solve_nonaffine", "zero_modes"]
+
+#: Force balance required before ``J`` is factorized: max |F| (per particle, Ishima's
+#: coordinates, F^l = T/R) <= this x the mean |contact force|.  Error model: the
+#: linearization about a state with a residual force F moves G by O(|F| / f_mean)
+#: relative, so 1e-6 keeps it far below the 1 % acceptance of theory against step
+#: strain; the packings are relaxed to max |F| < f_tol = 1e-14 k_N d^(3/2) (Newton),
+#: ~1e-12 of their mean contact force (~1e-2 k_N d^(3/2) at phi = 0.86-0.9), six
+#: decades below it, and a state that is not relaxed is off by far more.
+FORCE_BALANCE_TOL = 1e-6
+
+def check_force_balance(system, state, rel_tol=FORCE_BALANCE_TOL):
+    """ParameterError unless ``state`` is force-balanced; returns ``(max |F|, tolerance)``.
+
+    ``max |F|`` over the free particles' generalized forces in Ishima's
+    coordinates (F_x, F_y, F^l = T/R), against ``rel_tol`` times the mean
+    magnitude of the contact forces (on i) of the contacts that carry force
+    (:data:`FORCE_BALANCE_TOL`, its error model).  A state outside the law's
+    domain (an overlap the law refuses) is refused the same way.
+    """
+    try:
+        f = system.forces(state)[system.free, :system.dof]
+        fc = system.contact_forces(state)[:, :2]
+    except ValueError as exc:   # a kernel refused an overlap: far from any relaxed state
+        if isinstance(exc, ParameterError):
+            raise
+        raise ParameterError(f"the state is not force-balanced: an overlap outside the law's "
+                             f"domain ({' '.join(str(exc).split())}); relax it first "
+                             "(fricstab packing make, or fricstab.newton)") from None
+    if system.dof == 3:   # the engine's T/s as Ishima's F^l = T/R (c = R/s)
+        f[:, 2] /= ishima_scale(system)[system.free]
+    mag = np.hypot(fc[:, 0], fc[:, 1])
+    mag = mag[mag > 0]
+    scale = float(mag.mean()) if mag.size else 0.0
+    tol = rel_tol * scale
+    fmax = float(np.abs(f).max()) if f.size else 0.0
+    if not fmax <= tol:
+        raise ParameterError(f"the state is not force-balanced: max |F| = {fmax:.3g} "
+                             f"(tolerance {tol:.3g} = {rel_tol:g} x the mean contact force "
+                             f"{scale:.3g}); relax it first (fricstab packing make, or "
+                             "fricstab.newton / fricstab.frictional)")
+    return fmax, tol
+
 
 def ishima_scale(system):
     """``c_i = R_i / s_i``: Ishima's ``l = c r`` for the law's rotation coordinate ``r``."""
@@ -256,7 +298,8 @@ def rigidity(system, state, modes=False, route="auto"):
         A rattler-free backbone under any law (:func:`frictional`), square
         periodic box.
     state : State
-        Force-balanced.
+        Force-balanced: max |F| <= :data:`FORCE_BALANCE_TOL` x the mean
+        contact force (:func:`check_force_balance`), checked before the LU.
     modes : bool
         Also compute ``G_NA`` by the mode sum (Eq. 44; a dense
         eigendecomposition).
@@ -270,6 +313,12 @@ def rigidity(system, state, modes=False, route="auto"):
         ``k_N d^(1/2)`` (Ishima's units), the ``jacobian`` (CSR, Ishima's
         convention ``-dF/dq`` in ``(x, y, l)``), ``xi``, ``theta``, ``u``,
         ``checks`` (zero-mode and solve residuals) and ``seconds``.
+
+    Raises
+    ------
+    ParameterError
+        A state that is not force-balanced (naming max |F| and the
+        tolerance), or a bad argument.
     """
     check_system_state(system, state)
     check_bool("modes", modes)
@@ -277,6 +326,7 @@ def rigidity(system, state, modes=False, route="auto"):
         raise ParameterError(f"route must be 'auto', 'symmetric' or 'dense', got {route!r}")
     k, n, box = system.dof, system.n, system.lx
     t0 = time.perf_counter()
+    check_force_balance(system, state)   # before the LU: a clear refusal, not SuperLU's
     jac, xi, theta, g_a, forces = linear_response(system, state)
     t1 = time.perf_counter()
     u, mult = solve_nonaffine(jac, xi, n, k)

@@ -30,8 +30,32 @@ PAPER_BINS = ((-1e-1, -1e-2), (-1e-2, -1e-3), (-1e-3, -1e-4), (-1e-4, 0.0),
               (0.0, 1e-4), (1e-4, 1e-3), (1e-3, 1e-2), (1e-2, 1e-1))
 
 
+#: Below this many pairs the p-value is exact (all n! pairings, scipy's permutation_test):
+#: the t approximation spearmanr uses gives p = 0 for a perfect rank order at any n
+#: (n = 3 was "significant"), while the exact two-sided p of n = 3 is at least 1/3.
+EXACT_BELOW = 9
+
+
+def _exact_p(x, y):
+    """Two-sided exact p of Spearman's rho under the permutation null (n < EXACT_BELOW)."""
+    from scipy.stats import permutation_test, rankdata
+    rx, ry = rankdata(x), rankdata(y)
+    ry = (ry - ry.mean()) / np.sqrt(np.sum((ry - ry.mean()) ** 2))
+
+    def rho(r, axis=-1):
+        r = r - r.mean(axis=axis, keepdims=True)
+        return np.sum(r * ry, axis=axis) / np.sqrt(np.sum(r * r, axis=axis))
+
+    res = permutation_test((rx,), rho, permutation_type="pairings", vectorized=True,
+                           n_resamples=np.inf, alternative="two-sided")
+    return float(res.pvalue)
+
+
 def spearman_cell(x, y, min_n=3, alpha=0.05):
-    """Spearman rho of finite pairs; ``rho`` None ("n/a") for n < min_n or constant input."""
+    """Spearman rho of finite pairs; ``rho`` None ("n/a") for n < min_n or constant input.
+
+    The p-value is exact for n < :data:`EXACT_BELOW` and scipy's t approximation above.
+    """
     x, y = np.asarray(x, float), np.asarray(y, float)
     ok = np.isfinite(x) & np.isfinite(y)
     x, y = x[ok], y[ok]
@@ -44,8 +68,8 @@ def spearman_cell(x, y, min_n=3, alpha=0.05):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             res = spearmanr(x, y)
-        cell.update(rho=float(res.statistic), p=float(res.pvalue),
-                    significant=bool(res.pvalue <= alpha))
+        p = _exact_p(x, y) if len(x) < EXACT_BELOW else float(res.pvalue)
+        cell.update(rho=float(res.statistic), p=p, significant=bool(p <= alpha))
     return cell
 
 

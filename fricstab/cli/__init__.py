@@ -15,6 +15,8 @@ Subcommands
     Disk packings of Ishima et al.: rigidity and DOS (:mod:`fricstab.cli.packing`).
 ``fricstab shear ...``
     Plane shear of Lee & Hurley (:mod:`fricstab.cli.shear`, when installed).
+``fricstab warmup``
+    Compile every numba kernel once, a line per group (:mod:`fricstab.cli.warmup`).
 ``fricstab scene show NAME`` / ``fricstab scene list``
     The keys of a scene file: type, default, unit, allowed values (:mod:`fricstab.io.scenes`).
 
@@ -213,13 +215,13 @@ def _parser():
                    nargs=2, metavar=("LO", "HI"), default=None,
                    help="R_j/R_i range (default: 1 1.4)")
     v.add_argument("--no-progress", action="store_true", help="no progress bar")
-    from fricstab.cli import chain as chain_cli
-    from fricstab.cli import packing as packing_cli
+    from fricstab.cli import chain as chain_cli, packing as packing_cli, warmup as warmup_cli
     chain_cli.add_parser(sub, _Parser, _positive_float)
     packing_cli.add_parser(sub, _Parser, _positive_float)
     shear = _shear_cli()
     if shear is not None:
         shear.add_parser(sub, _Parser, _positive_float)
+    warmup_cli.add_parser(sub)
     sc = sub.add_parser("scene", help="the keys of the scene files (show, list)")
     ssub = sc.add_subparsers(dest="scene_command", metavar="SCENE_COMMAND",
                              parser_class=_Parser)
@@ -385,7 +387,7 @@ def _dispatch(ns, argv):
         return packing_cli.run(ns, argv)
     if ns.command == "shear":
         return _shear_cli().run(ns, argv)
-    return _cmd_verify(ns)
+    return _cmd_verify(ns) if ns.command == "verify" else ns.run(ns, _main)   # warmup
 
 
 def _one_line(exc):
@@ -457,12 +459,12 @@ def main(argv=None):
     if problem:   # before any work: numba's threads cannot start as asked
         print(f"fricstab: error: {problem}", file=sys.stderr)
         return EXIT_USAGE
-    from fricstab import signals
+    from fricstab import progress, signals
     from fricstab.io.results import WARNINGS, forget_all, release_all
     WARNINGS.clear()
     forget_all()
     try:
-        with signals.interruptible(), warnings.catch_warnings():
+        with signals.interruptible(), warnings.catch_warnings(), progress.for_command(argv):
             warnings.simplefilter("always")
             warnings.showwarning = _collect_warning
             return _main(argv)

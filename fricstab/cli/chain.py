@@ -160,8 +160,7 @@ def add_parser(sub, parser_class, positive_float):
 
 
 def _ramp(ns, argv):
-    from tqdm import tqdm
-
+    from fricstab import progress
     from fricstab.errors import check_finite
     from fricstab.figures.chain import ramp_figure
     from fricstab.protocols.ramp import run_ramp
@@ -177,8 +176,9 @@ def _ramp(ns, argv):
     if ns.dry_run:
         return _dry_run(ns, scene, {**protocol, "estimate": estimate})
     rd.create()
-    with rd.stage("ramp"), tqdm(total=steps, desc="ramp", unit="step",
-                                disable=ns.no_progress or None, file=sys.stderr) as bar:
+    progress.compile_note(["contact laws"], enabled=not ns.no_progress)
+    with rd.stage("ramp"), progress.bar(total=steps, desc="ramp", unit="step",
+                                        enabled=not ns.no_progress) as bar:
         res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar)
     check_finite("eigenvalue of M^-1 J", res.eigenvalues, item="ramp step")
     check_finite("force residual", res.residual, item="ramp step")
@@ -193,7 +193,7 @@ def _ramp(ns, argv):
         rd.write_npz("ramp.npz", fx=res.fx, eigenvalues=res.eigenvalues,
                      condition=res.condition, residual=res.residual, growth=res.growth,
                      eigenvalue_unit=unit2)
-        rd.write_png("ramp.png", lambda tmp: ramp_figure(res, events, unit2, tmp))
+        rd.write_png("ramp.png", lambda tmp: ramp_figure(res, events, unit2, tmp, scene=scene))
     _finish(rd, doc, scene, ns, argv, protocol)
     out = rd.path
     print(f"{len(events)} complex-pair events in F_x in [0, {ns.fx_max:g}] "
@@ -222,7 +222,9 @@ def _jacobian(ns, argv):
     if ns.dry_run:
         return _dry_run(ns, loaded, {**protocol, "estimate": estimate})
     rd.create()
-    with rd.stage("equilibrium"):
+    from fricstab import progress
+    progress.compile_note(["contact laws"], enabled=not ns.no_progress)
+    with rd.stage("equilibrium"), progress.heartbeat("equilibrium", not ns.no_progress):
         state = _ramped_equilibrium(loaded.with_fx(0.0), fx, ns.step)
     with rd.stage("jacobian"):
         f, jac = forces_and_jacobian(loaded, state)
@@ -242,8 +244,7 @@ def _jacobian(ns, argv):
 
 
 def _dynamics(ns, argv):
-    from tqdm import tqdm
-
+    from fricstab import progress
     from fricstab.analysis.observables import centre_of_mass, first_breach, msd, paper_time
     from fricstab.figures.chain import dynamics_figure
     from fricstab.io.checkpoint import Checkpointer
@@ -279,12 +280,13 @@ def _dynamics(ns, argv):
     if ns.resume and resume is None and not ns.quiet:
         print(f"no checkpoint in {rd.path}/checkpoints: starting from the beginning",
               file=sys.stderr)
-    with rd.stage("equilibrium"):
+    progress.compile_note(["contact laws", "chain dynamics"], enabled=not ns.no_progress)
+    with rd.stage("equilibrium"), progress.heartbeat("equilibrium", not ns.no_progress):
         state = _ramped_equilibrium(scene, ns.fx, ns.step)
     start = perturbed(scene, state, ns.amplitude, np.random.default_rng(ns.seed))
-    with rd.stage("dynamics"), tqdm(total=int(np.ceil(n_steps)), desc="dynamics", unit="step",
-                                    unit_scale=True, disable=ns.no_progress or None,
-                                    file=sys.stderr) as bar:
+    with rd.stage("dynamics"), progress.bar(total=int(np.ceil(n_steps)), desc="dynamics",
+                                            unit="step", unit_scale=True,
+                                            enabled=not ns.no_progress) as bar:
         res = run_dynamics(loaded, start, dt=dt, duration=ns.duration * unit, frames=4000,
                            checkpointer=ck, checkpoint_every=every, resume=resume,
                            progress=bar)

@@ -1,5 +1,7 @@
 """``fricstab chain waves``: wave speeds over seeded realizations (see :mod:`fricstab.cli.chain`)."""
 
+import sys
+
 import numpy as np
 
 from fricstab.cli.chain_common import (PAPER_TIME_UNIT, _capped, _check_ramp_steps, _dry_run,
@@ -81,7 +83,10 @@ def waves(ns, argv):
                         "slide_threshold_2R": ns.slide_threshold}))
             for fx in fxs for seed in seeds}
     members, equilibria = {}, {}
-    with rd.stage("equilibria"):
+    from fricstab import progress
+    loud = not ns.no_progress
+    progress.compile_note(["contact laws", "chain dynamics"], enabled=loud)
+    with rd.stage("equilibria"), progress.heartbeat("equilibria", loud):
         for fx in fxs:
             eq = _ramped_equilibrium(scene, fx, ns.step)
             equilibria[fx] = eq
@@ -89,12 +94,13 @@ def waves(ns, argv):
                 members[keys[fx, seed][0]] = dict(
                     scene=scene.with_fx(fx), equilibrium=eq, seed=seed, duration=ns.duration,
                     slide_threshold=ns.slide_threshold)
-    with rd.stage("realizations"):
+    with rd.stage("realizations"), progress.heartbeat(   # tqdm's bar: on a terminal only
+            "waves: realizations", loud and not sys.stderr.isatty()):
         stored = run_ensemble(realization_member, members, rd.path, scheduler=ns.scheduler,
                               workers=ns.workers, progress=not ns.no_progress, desc="waves",
                               fingerprints=dict(keys.values()))
     results, all_reals, arrays, fits = [], {}, {}, {}
-    with rd.stage("fits"):
+    with rd.stage("fits"), progress.heartbeat("fits", loud):
         for fx in fxs:
             sc, eq = scene.with_fx(fx), equilibria[fx]
             reals = [realization_from_arrays(stored[keys[fx, seed][0]]) for seed in seeds]

@@ -22,7 +22,6 @@ Exit 2: bad input (``--dgamma <= 0``, ``--strain < --dgamma``); 4: a step
 without equilibrium (the message names the step and its strain).
 """
 
-import sys
 
 import numpy as np
 
@@ -139,8 +138,7 @@ def _check_resumable(out, ck, last, n_steps):
 
 def aqs(ns, argv):
     """``fricstab packing aqs``: aqs.json, aqs.png, events/birth_<k>_{lo,hi}/."""
-    from tqdm import tqdm
-
+    from fricstab import progress
     from fricstab.analysis.aqs import compare, detect_drops
     from fricstab.io.checkpoint import Checkpointer
     from fricstab.io.jacobian_export import write_state_jacobian
@@ -182,7 +180,7 @@ def aqs(ns, argv):
     source = opened.start(argv, show_progress(ns))
     rd, packing = opened.rd, source.packing
     bb = backbone(packing, z_th=params["z_th"])
-    with rd.stage("friction"):
+    with rd.stage("friction"), progress.heartbeat("friction", show_progress(ns)):
         fr = frictional(bb, run.material, f_tol=params["f_tol"])
     system = fr.system
     rd.checkpoints()
@@ -197,8 +195,8 @@ def aqs(ns, argv):
                                                      "bracket_end": end})
 
     done = 0 if last is None else int(last["step"])
-    with rd.stage("aqs"), tqdm(total=n_steps, initial=done, desc="aqs", unit="step",
-                               disable=not show_progress(ns), file=sys.stderr) as bar:
+    with rd.stage("aqs"), progress.bar(total=n_steps, initial=done, desc="aqs", unit="step",
+                                       enabled=show_progress(ns)) as bar:
         res = run_aqs(system, fr.state, ns.strain, ns.dgamma, f_tol=params["f_tol"],
                       tol=ns.tol, progress=bar, resume=last,
                       checkpoint=lambda k, arrays: ck.save(k, **arrays),

@@ -17,7 +17,6 @@ is the one run; without either, the paper's scan of the command
 import inspect
 import json
 import math
-import sys
 
 from fricstab.io.files import json_clean
 from fricstab.laws import ParameterError
@@ -130,8 +129,9 @@ def packing_source_checks(ns):
 
 
 def show_progress(ns):
-    """tqdm bars: off with --no-progress, and when stderr is no terminal."""
-    return not ns.no_progress and sys.stderr.isatty()
+    """Progress (:mod:`fricstab.progress`: a bar on a terminal, a line every few seconds
+    in a log): off with --no-progress and --quiet."""
+    return not ns.no_progress
 
 
 def new_packing(params, progress=False):

@@ -7,7 +7,6 @@ translations (smallest |lambda|) dropped, participation fractions
 to every run, and the rotational band.
 """
 
-import sys
 
 import numpy as np
 
@@ -84,8 +83,7 @@ def _entry(i, s, edges):
 
 def dos(ns, argv):
     """``fricstab packing dos``: dos.json, dos.npz, dos.png."""
-    from tqdm import tqdm
-
+    from fricstab import progress
     from fricstab.analysis import dos as dosmod
     from fricstab.figures.packing import dos_figure
 
@@ -105,8 +103,8 @@ def dos(ns, argv):
     rd, packing = opened.rd, source.packing
     bb = backbone(packing, z_th=params["z_th"])
     spectra = []
-    with tqdm(runs, desc="dos", unit="run", disable=ns.no_progress or None,
-              file=sys.stderr) as bar, rd.stage("spectrum"):
+    with progress.bar(runs, desc="dos", unit="run", enabled=show_progress(ns)) as bar, \
+            rd.stage("spectrum"):
         for run in bar:
             bar.set_postfix_str(run.name)
             spectra.append(_spectrum(bb, run, params["route"], params["f_tol"]))

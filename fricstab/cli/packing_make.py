@@ -38,13 +38,15 @@ def make(ns, argv):
         return dry_run(params, [run])
     rd.create()
     remove(rd.path, found, "made from the packing that --force replaced")
+    from fricstab import progress
+    progress.compile_note(["packing"], enabled=show_progress(ns))
     with rd.stage("make"):
         packing = new_packing(params, show_progress(ns))
     radius = packing.radius
     pairs, sep = find_contacts(packing.pos, radius, packing.box)
     bb = backbone(packing, z_th=params["z_th"])
     m_bb = len(find_contacts(bb.pos, bb.radius, bb.box)[0])
-    with rd.stage("friction"):
+    with rd.stage("friction"), progress.heartbeat("friction", show_progress(ns)):
         fr = frictional(bb, run.material, f_tol=params["f_tol"])
     rattler = np.ones(packing.n, dtype=bool)
     rattler[bb.keep] = False

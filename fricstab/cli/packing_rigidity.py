@@ -53,8 +53,7 @@ def _save_run(rd, bb, run, r, s, g_na_modes, g_modes):
 
 def rigidity(ns, argv):
     """``fricstab packing rigidity``: rigidity.json, rigidity.png, one folder per run."""
-    from tqdm import tqdm
-
+    from fricstab import progress
     from fricstab.analysis.rigidity import rigidity as linear_rigidity
     from fricstab.figures.packing import rigidity_figure
     from fricstab.protocols import stepstrain
@@ -79,8 +78,7 @@ def rigidity(ns, argv):
     bb = backbone(packing, z_th=params["z_th"])
     modes = ns.modes if ns.modes is not None else bb.n <= MODES_MAX_PARTICLES
     results, first = [], None
-    with tqdm(runs, desc="rigidity", unit="run", disable=ns.no_progress or None,
-              file=sys.stderr) as bar:
+    with progress.bar(runs, desc="rigidity", unit="run", enabled=show_progress(ns)) as bar:
         for run in bar:
             bar.set_postfix_str(run.name)
             with rd.stage("theory"):

@@ -159,22 +159,25 @@ def analyze(ns, argv):
         setting["reused"] = {"dir": str(ns.reuse), "frames": len(previous["tau"])}
     rd = ResultDir(dest, "analysis", force=ns.force, outputs=("analysis.npz",),
                    fingerprint=setting).create()
-    with rd.stage("analyze"):
-        res = analyze_frames(frames, gamma0, progress=not ns.no_progress and sys.stderr.isatty(),
-                             previous=previous)
+    from fricstab import progress
+    bars = not ns.no_progress and sys.stderr.isatty()   # the analyses' tqdm bars
+    log = not ns.no_progress and not bars                # else a line every few seconds
+    with rd.stage("analyze"), progress.heartbeat("shear analysis", log):
+        res = analyze_frames(frames, gamma0, progress=bars, previous=previous)
     numbers, arrays = res.to_json(), res.npz_arrays()
     if not ns.no_spectra:
         from fricstab.analysis.shear_slips import slip_spectra
-        with rd.stage("slip spectra"):
+        with rd.stage("slip spectra"), progress.heartbeat("slip spectra", log):
             spectra = slip_spectra(frames, res.phases, res.arrays["phase_dtau_p"], params,
-                                   progress=not ns.no_progress and sys.stderr.isatty(),
+                                   progress=bars,
                                    route=ns.spectra, k=k,
                                    previous=previous if previous and "slip_frame" in previous
                                    else None)
         numbers["slip_spectra"] = spectra.summary()
         arrays.update(spectra.arrays())
     rd.write_npz("analysis.npz", **arrays)
-    _analysis_outputs(rd, frames, res, numbers, arrays)
+    with progress.heartbeat("figures", not ns.no_progress):
+        _analysis_outputs(rd, frames, res, numbers, arrays)
     doc = rd.finish(numbers, parameters={**setting, "run_dir": str(out)}, argv=argv)
     if partial:
         print(f"partial: the first {frames.n_frames} frames, to strain "

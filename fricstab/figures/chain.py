@@ -18,7 +18,7 @@ import numpy as np
 
 from fricstab.figures.common import finish, note, pyplot
 
-__all__ = ["LABELS", "dynamics_figure", "ramp_figure", "wave_figure"]
+__all__ = ["LABELS", "dynamics_figure", "ramp_figure", "units_note", "wave_figure"]
 
 #: The axis labels of the chain's quantities, in Charan's units (length 2R, time
 #: t_0 = sqrt(m 2R / k_n), force k_n (2R)^{3/2} / 2000): the CLI's figures and the
@@ -35,12 +35,50 @@ UNITS = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, force "
          r"$k_n (2R)^{3/2}/2000$ (the simulation's $k_n = 2000$, $F_y = 0.1$)")
 
 
-def ramp_figure(res, events, unit2, path=None):
+def units_note(scene=None):
+    """The figure's units line; with ``scene``, its own k_n and F_y (or how k_n is set).
+
+    A law without a k_n (``lee_hurley``) takes the Hertz k_n with the same rest
+    overlap as its unit of stiffness (:func:`fricstab.scenes.chain.reference_stiffness`).
+    """
+    head = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, force "
+            r"$k_n (2R)^{3/2}/2000$")
+    if scene is None:
+        return UNITS
+    from fricstab.scenes.chain import reference_stiffness
+    kn = reference_stiffness(scene)
+    if "kn" in scene.params:
+        return head + rf" (this scene: $k_n = {kn:.6g}$, $F_y = {scene.fy:g}$)"
+    return head + (rf" ({scene.law} has no $k_n$: $k_n = {kn:.6g}$ is the Hertz $k_n$ with its "
+                   rf"rest overlap; $F_y = {scene.fy:g}$)")
+
+
+def _events_to_curves(ax, fx, w, events):
+    """Start each pair's Im curve at its located birth and end it at its located death
+    (Im = 0 there), not at the grid steps around them."""
+    fx = np.asarray(fx)
+    for e in events:
+        k = int(np.searchsorted(fx, e["fx"], side="right"))
+        if not 0 < k < len(fx):
+            continue
+        before, after = w[k - 1].imag > 0, w[k].imag > 0
+        if e["kind"] == "birth":
+            for col in np.flatnonzero(after & ~before):
+                ax.plot([e["fx"], fx[k]], [0.0, w[k, col].imag], color="C3", lw=1.4)
+        else:
+            for col in np.flatnonzero(before & ~after):
+                ax.plot([fx[k - 1], e["fx"]], [w[k - 1, col].imag, 0.0], color="C3", lw=1.4)
+        ax.plot([e["fx"]], [0.0], "o", color="C0" if e["kind"] == "birth" else "C2", ms=3)
+
+
+def ramp_figure(res, events, unit2, path=None, scene=None):
     """Charan Fig. 2 from a ramp result (``res.fx`` (S,), ``res.eigenvalues`` (S, n)).
 
     ``events`` are the records of the ramp (dicts with ``fx`` and ``kind``),
     ``unit2`` the square of Charan's time unit (eigenvalues times it are in
-    units of t_0^-2).
+    units of t_0^-2); ``scene`` (optional) names its k_n and F_y in the units line.
+    Each pair's Im curve runs from its located birth to its located death; a
+    ramp with no complex pair says so in the lower panel.
     """
     plt = pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
@@ -49,6 +87,11 @@ def ramp_figure(res, events, unit2, path=None):
     cplx = np.where(np.abs(w.imag) > 0, w.real, np.nan)
     top.plot(res.fx, cplx, color="C3", lw=1.4)
     bottom.plot(res.fx, np.where(w.imag > 0, w.imag, np.nan), color="C3", lw=1.4)
+    _events_to_curves(bottom, res.fx, w, events)
+    if not np.any(w.imag > 0):
+        bottom.text(0.5, 0.5, rf"no complex pair for $F_x \leq {np.max(res.fx):.4g}$: "
+                    "every eigenvalue is real", transform=bottom.transAxes, ha="center",
+                    va="center", fontsize=9)
     for e in events:
         for ax in (top, bottom):
             ax.axvline(e["fx"], color="C0" if e["kind"] == "birth" else "C2", lw=0.6, ls="--")
@@ -63,7 +106,7 @@ def ramp_figure(res, events, unit2, path=None):
     bottom.set_xlabel(LABELS["fx"])
     top.set_title("Chain ramp: eigenvalues against the pushing force (cf. Charan Fig. 2)")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
-    note(fig, UNITS)
+    note(fig, units_note(scene))
     return finish(fig, path, dpi=120)
 
 

@@ -167,41 +167,68 @@ def fig_force_network(frames, k, path=None):
     return _save(fig, path)
 
 
+def _differential(ax, frames, k, ij, **style):
+    """The differential force network of step ``k`` on ``ax`` with its colour bar.
+
+    Returns the differences |f_k| - |f_k-1| per bond (N/m) and the bonds' segments.
+    """
+    df = sa.differential_forces(frames, k)
+    scale, unit = si_scale(df, "N/m")
+    lim = max(np.abs(df).max() * scale, 1e-300)
+    bonds = _bonds(frames, k, ij)
+    lc = LineCollection(bonds, cmap="coolwarm", **style)
+    lc.set_array(df * scale)
+    lc.set_clim(-lim, lim)
+    ax.add_collection(lc)
+    ax.figure.colorbar(lc, ax=ax, label=f"$|f_k| - |f_{{k-1}}|$ [{unit}]", shrink=0.7)
+    return df, bonds
+
+
 def fig_differential_network(frames, k, path=None):
     """Differential force network of step ``k`` (Figs. 3-5): |f_k| - |f_k-1| per bond."""
     _check_step(frames, k)
     ij, *_ = frames.contacts(k)
-    df = sa.differential_forces(frames, k)
     fig, ax = _map_figure(frames, k)
     _disks(ax, frames, k)
-    scale, unit = si_scale(df, "N/m")
-    lim = max(np.abs(df).max() * scale, 1e-300)
-    lc = LineCollection(_bonds(frames, k, ij), cmap="coolwarm", linewidth=1.2)
-    lc.set_array(df * scale)
-    lc.set_clim(-lim, lim)
-    ax.add_collection(lc)
-    fig.colorbar(lc, ax=ax, label=f"$|f_k| - |f_{{k-1}}|$ [{unit}]", shrink=0.7)
+    _differential(ax, frames, k, ij, linewidth=1.2)
     ax.set_title(f"differential forces, step {k} (cf. Lee & Hurley Figs. 3-5)", fontsize=9)
     fig.tight_layout()
     return _save(fig, path)
 
 
 def fig_gr_clusters(frames, k, path=None, radius_factor=5.0, fraction=0.01):
-    """GR particles of step ``k`` coloured by DBSCAN cluster (Figs. 3-5, left column)."""
+    """GR regions of step ``k`` (Figs. 3-5, left column) on its differential force network.
+
+    The network (|f_k| - |f_k-1| per bond, faint) gives the context; the GR
+    contacts (the ``fraction`` of contacts with the greatest force reduction) are
+    drawn thick, and their disks filled at their true size in their DBSCAN
+    cluster's colour (black: noise), so a handful of GR disks is still a map.
+    """
     _check_step(frames, k)
     eps = radius_factor * frames.radius[frames.kind == 0].mean()
     gr = sa.gr_regions(frames, k, eps, fraction)
+    ij, *_ = frames.contacts(k)
     fig, ax = _map_figure(frames, k)
     pos = _disks(ax, frames, k)
+    df, bonds = _differential(ax, frames, k, ij, linewidth=0.8, alpha=0.45)
+    ax.add_collection(LineCollection([bonds[c] for c in gr["contacts"]], colors="k",
+                                     linewidth=2.4, zorder=4))
+    radius = frames.radius * _length(frames)[0]
     for lab in np.unique(gr["labels"]):
-        p = pos[gr["particles"][gr["labels"] == lab]]
-        ax.scatter(p[:, 0], p[:, 1], s=25, color="k" if lab < 0 else f"C{lab % 10}",
-                   label="noise" if lab < 0 else f"cluster {lab + 1}", zorder=3)
+        members = gr["particles"][gr["labels"] == lab]
+        colour = "k" if lab < 0 else f"C{lab % 10}"
+        ax.add_collection(PatchCollection([Circle(pos[i], radius[i]) for i in members],
+                                          facecolor=colour, edgecolor="k", alpha=0.8,
+                                          linewidth=0.6, zorder=3))
+        ax.plot([], [], "o", color=colour, label="noise" if lab < 0 else f"cluster {lab + 1}")
     if len(gr["particles"]):
         ax.legend(fontsize=6, loc="upper right")
-    ax.set_title(f"GR regions, step {k}: {gr['n_clusters']} cluster(s) "
-                 "(cf. Lee & Hurley Figs. 3-5)", fontsize=9)
-    fig.tight_layout()
+    ax.set_title(f"GR regions, step {k}: {gr['n_clusters']} cluster(s) of "
+                 f"{len(gr['particles'])} disks (cf. Lee & Hurley Figs. 3-5)", fontsize=9)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    note(fig, f"GR: the {100 * fraction:g} % of contacts with the greatest force reduction "
+              f"({len(gr['contacts'])} of {len(df)}, thick); DBSCAN eps = "
+              f"{radius_factor:g} mean radii")
     return _save(fig, path)
 
 

@@ -19,7 +19,9 @@ matplotlib, tqdm, fricstab), ``git`` (revision and whether the tree was
 dirty, or null), ``timings`` (per stage: ``wall_s`` and ``cpu_s``, the CPU
 time of this process), ``seconds`` (total wall time), ``command``,
 ``started``/``finished`` (UTC, ISO 8601) and ``host``.  NaN and inf are
-written as ``null`` (strict JSON).
+written as ``null`` (strict JSON).  Last comes ``record_sha256``, the digest
+of the rest (:func:`fricstab.io.rundir.record_digest`): readers refuse a
+record edited after its run (``record_version`` 2).
 """
 
 import contextlib
@@ -48,7 +50,9 @@ __all__ = ["INDEX", "ResultDir", "abandon_all", "add_run_options", "forget_all",
            "json_clean", "note_removed", "provenance", "release_all", "update_index", "versions",
            "write_json"]
 
-RECORD_VERSION = 1
+#: 2: the record carries its digest ``record_sha256`` (:func:`fricstab.io.rundir.record_digest`).
+RECORD_VERSION = rundir.DIGESTED_VERSION
+INDEX_VERSION = 1
 #: The directory's index of records (see :func:`_update_index`).
 INDEX = "result.json"
 _PACKAGES = ("numpy", "scipy", "numba", "sympy", "dask", "distributed", "matplotlib", "tqdm")
@@ -229,12 +233,12 @@ class ResultDir:
         """
         rel = str(Path(relname))
         target = self._folders if folder else self._names
+        if transient:   # also when a resumed run's journal already names it
+            self._transient.add(rel)
         if rel not in target:
             target.add(rel)
             if folder and (self.path / rel).is_dir():   # another's files there stay its own
                 self._kept.update(f"{rel}/{e}" for e in _entries(self.path / rel))
-            if transient:
-                self._transient.add(rel)
             if self._created:
                 self._write_journal()
         return self.path / rel
@@ -303,7 +307,7 @@ class ResultDir:
         atomic_write(self.file(relname), write)
 
     def finish(self, numbers, *, parameters, seed=None, argv=None):
-        """Write the record ``<name>.json`` last: numbers, provenance, fingerprint, manifest.
+        """Write the record ``<name>.json`` last: numbers, provenance, manifest, digest.
 
         Transient folders (checkpoints) are removed first; the journal after
         the record; the lock is released.  Returns the record.
@@ -322,6 +326,7 @@ class ResultDir:
             self.path, (self._names | self._folders) - self._transient).items()
             if k not in self._kept}
         doc["folders"] = sorted(self._folders - self._transient)   # --force: emptied of its files
+        doc[rundir.DIGEST] = rundir.record_digest(doc)   # last: readers refuse an edited record
         write_json(self.record, doc)
         update_index(self.path, self.name, doc)
         rundir.journal_path(self.path, self.name).unlink(missing_ok=True)
@@ -384,7 +389,7 @@ def update_index(path, name=None, doc=None):
     if not records:
         index_path.unlink(missing_ok=True)
         return
-    write_json(index_path, {"index_version": RECORD_VERSION, "protocols": sorted(records),
+    write_json(index_path, {"index_version": INDEX_VERSION, "protocols": sorted(records),
                             "records": records})
 
 

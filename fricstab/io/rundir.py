@@ -15,8 +15,9 @@ Every protocol run writes into its ``--out`` directory through
 ``<protocol>.json``
     the record, written last and atomically: the numbers, the provenance, the
     fingerprint and the *manifest*: every file of the run with its size and
-    SHA-256, and the folders the run owns (removed whole by ``--force``).
-    Readers (:func:`verify`) refuse a directory whose files do not match it,
+    SHA-256, and the folders the run owns (removed whole by ``--force``);
+    last its own digest ``record_sha256`` (:func:`record_digest`).  Readers
+    (:func:`verify`) refuse a directory whose record or files do not match,
     naming the file.
 
 The fingerprint is the SHA-256 of the canonical JSON of every parameter that
@@ -34,10 +35,14 @@ from pathlib import Path
 from fricstab.errors import ParameterError
 from fricstab.io.files import json_clean, temporaries, write_json
 
-__all__ = ["LOCK", "Lock", "fingerprint", "journal_path", "manifest", "remove_run",
-           "remove_run_folder", "verify"]
+__all__ = ["DIGEST", "LOCK", "Lock", "fingerprint", "journal_path", "manifest", "record_digest",
+           "remove_run", "remove_run_folder", "verify"]
 
 LOCK = ".fricstab.lock"
+#: The record's key holding :func:`record_digest` (records of ``record_version`` >= 2).
+DIGEST = "record_sha256"
+#: The first ``record_version`` whose records carry a digest (and a manifest).
+DIGESTED_VERSION = 2
 _HASH_CHUNK = 1 << 20
 
 
@@ -46,6 +51,41 @@ def fingerprint(parameters):
     clean = json_clean(parameters)
     text = json.dumps(clean, sort_keys=True, allow_nan=False, separators=(",", ":"))
     return {"sha256": hashlib.sha256(text.encode()).hexdigest(), "parameters": clean}
+
+
+def record_digest(record):
+    """SHA-256 of the canonical JSON (sorted keys, no spaces) of ``record`` but :data:`DIGEST`.
+
+    The same for the dict :meth:`ResultDir.finish` writes and for the one read back.
+    """
+    body = json_clean({k: v for k, v in record.items() if k != DIGEST})
+    text = json.dumps(body, sort_keys=True, allow_nan=False, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _check_record(record, record_path):
+    """Refuse a record edited after its run: digest changed or removed, manifest removed.
+
+    Returns whether the record has a manifest; a record of ``record_version``
+    1 (or none) without a manifest, written before manifests, is legacy.
+    """
+    fix = "; rerun with --force"
+    has_manifest = isinstance(record.get("files"), dict)
+    version = record.get("record_version")
+    modern = DIGEST in record or has_manifest or not (version is None or version == 1)
+    if not modern:
+        return False
+    if DIGEST not in record:
+        why = ("has no record digest (written before records carried one, or edited)"
+               if has_manifest else f"has no manifest and no digest (record_version {version!r}"
+               ", edited by hand?)")
+        raise ParameterError(f"{record_path} {why}{fix}")
+    if record[DIGEST] != record_digest(record):
+        raise ParameterError(f"{record_path} does not match its digest {DIGEST} (the record "
+                             f"was edited after the run){fix}")
+    if not has_manifest:
+        raise ParameterError(f"{record_path} has no manifest of its files{fix}")
+    return True
 
 
 def difference(old, new, free=()):
@@ -192,7 +232,7 @@ def manifest(folder, names):
 
 
 def verify(folder, protocol, files=None):
-    """The record of ``protocol`` in ``folder``, after checking its manifest.
+    """The record of ``protocol`` in ``folder``, after checking its digest and manifest.
 
     ``files`` restricts the check to those relative paths (a reader that needs
     only some).  Raises :class:`ParameterError` naming the missing or changed
@@ -212,9 +252,9 @@ def verify(folder, protocol, files=None):
     if not isinstance(record, dict):
         raise ParameterError(f"{record_path} is not a readable record: a JSON "
                              f"{type(record).__name__}, not an object; rerun with --force")
-    listed = record.get("files")
-    if not isinstance(listed, dict):
+    if not _check_record(record, record_path):
         return record   # a record written before manifests existed: nothing to check
+    listed = record["files"]
     for rel in (files if files is not None else sorted(listed)):
         if rel not in listed:
             raise ParameterError(f"{folder / rel} is not part of the {protocol} result")

@@ -41,11 +41,10 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from tqdm import tqdm
-
 from fricstab.engine import Material, System, fire
 from fricstab.engine.contacts import build
 from fricstab.errors import MAX_STEPS, ConvergenceError, ParameterError, check_steps
+from fricstab.progress import bar as progress_bar
 from fricstab.scenes.packing_place import diameters, place
 
 __all__ = ["ConvergenceError", "KN", "Packing", "find_contacts", "fold", "frictionless_system",
@@ -213,7 +212,7 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
     max_iter : int
         Cap on the FIRE iterations of one relaxation (at most 1e10).
     progress : bool
-        Show a tqdm bar over the compression steps.
+        Show progress over the compression steps (:func:`fricstab.progress.bar`).
 
     Returns
     -------
@@ -275,7 +274,8 @@ def make_packing(n, phi, seed=0, *, dphi=1e-3, f_tol=1e-14, f_tol_compress=1e-6,
     steps = max(math.ceil((phi - phi_start) / dphi - 1e-9), 0)
     schedule = [phi_start] + [phi_start + k * dphi for k in range(1, steps)] + [phi] * (steps > 0)
     total = 0
-    for k, phi_k in enumerate(tqdm(schedule, disable=not progress, desc="compress", unit="step")):
+    for k, phi_k in enumerate(progress_bar(schedule, desc="compress", unit="step",
+                                           enabled=progress)):
         new_box = math.sqrt(area / phi_k)
         pos *= new_box / box
         box = new_box

@@ -177,6 +177,30 @@ class Backbone:
         return self.mass * (2 * self.radius) ** 2 / 8
 
 
+#: A packing handed to :func:`backbone` must be force-balanced: max |F_i| at most this
+#: times its mean contact force, or the ``f_tol`` it records (make_packing), whichever is
+#: larger.  The same rule as :data:`fricstab.analysis.rigidity.FORCE_BALANCE_TOL`
+#: (a residual force shifts G by about |F|/f_mean relative; make_packing's packings sit
+#: near 1e-11).  A state far from balance would otherwise reach the backbone's Newton
+#: relaxation and fail there as a singular sparse LU, or walk a disk out of the box.
+BALANCE_TOL = 1e-6
+
+
+def _check_balanced(packing, radius, pairs, sep):
+    """ParameterError naming max |F| unless ``packing`` is force-balanced (BALANCE_TOL)."""
+    xi = radius[pairs[:, 0]] + radius[pairs[:, 1]] - np.hypot(sep[:, 0], sep[:, 1])
+    fc = KN * np.clip(xi, 0, None) ** 1.5
+    mean = float(fc[fc > 0].mean()) if np.any(fc > 0) else 0.0
+    recorded = packing.info.get("f_tol", 0.0) if isinstance(packing.info, dict) else 0.0
+    tol = max(BALANCE_TOL * mean, float(recorded or 0.0))
+    fmax = float(np.abs(hertz_forces(packing.pos, radius, packing.box)).max())
+    if not fmax <= tol:
+        raise ParameterError(f"the packing is not force-balanced: max |F| = {fmax:.3g} "
+                             f"(tolerance {tol:.3g}: {BALANCE_TOL:g} x the mean contact force "
+                             f"{mean:.3g}, or the f_tol it records); relax it first "
+                             "(fricstab packing make, or fricstab.make_packing)")
+
+
 def backbone(packing, z_th=2, f_tol=1e-14):
     """Remove rattlers (and their contacts) from a packing (Ishima App. E.1).
 
@@ -209,6 +233,7 @@ def backbone(packing, z_th=2, f_tol=1e-14):
     check_real("f_tol", f_tol, 0.0, low_open=True)
     radius = packing.diameter / 2
     pairs, sep = find_contacts(packing.pos, radius, packing.box)
+    _check_balanced(packing, radius, pairs, sep)
     rattler = rattler_mask(pairs, len(radius), z_th)
     removed = rattler[pairs[:, 0]] | rattler[pairs[:, 1]]
     d = np.hypot(sep[removed, 0], sep[removed, 1])
