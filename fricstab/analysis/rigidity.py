@@ -298,7 +298,7 @@ def rigidity(system, state, modes=False, route="auto"):
         A rattler-free backbone under any law (:func:`frictional`), square
         periodic box.
     state : State
-        Force-balanced: max |F| <= :data:`FORCE_BALANCE_TOL` x the mean
+        Force-balanced: ``max |F| <=`` :data:`FORCE_BALANCE_TOL` x the mean
         contact force (:func:`check_force_balance`), checked before the LU.
     modes : bool
         Also compute ``G_NA`` by the mode sum (Eq. 44; a dense
@@ -317,7 +317,7 @@ def rigidity(system, state, modes=False, route="auto"):
     Raises
     ------
     ParameterError
-        A state that is not force-balanced (naming max |F| and the
+        A state that is not force-balanced (naming ``max |F|`` and the
         tolerance), or a bad argument.
     """
     check_system_state(system, state)
