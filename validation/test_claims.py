@@ -279,6 +279,25 @@ def test_another_trace_function_counts_modules_whole(tmp_path, monkeypatch):
     assert tracer.lost and sys.gettrace() is None
 
 
+def test_a_thread_started_while_tracing_is_traced_not_lost():
+    """A thread installs the tracer's own hook through sys.settrace (threading's
+    bootstrap): its calls are seen, so it must not count as another trace function
+    (it did, and made every job that started a progress thread whole-module)."""
+    import threading
+
+    from claims.fingerprint import Tracer
+
+    def in_thread():
+        return 1
+
+    with Tracer() as tracer:
+        t = threading.Thread(target=in_thread)
+        t.start()
+        t.join()
+    assert not tracer.lost
+    assert in_thread.__code__ in tracer.codes.values()
+
+
 def test_git_is_not_a_process_that_hides_code(tmp_path):
     fp = _demo_fingerprint(tmp_path, git=True)
     assert "validation/_fp_demo.py" in fp["functions"]

@@ -273,7 +273,10 @@ class Tracer:
         tracer = self
 
         def settrace(func):     # a debugger, coverage, hypothesis's explain phase
-            tracer.lost = True
+            # but not a new thread installing our own hook (threading.settrace above):
+            # its calls are traced, so a thread keeps the record function-level
+            if func != tracer._trace:
+                tracer.lost = True
             return tracer._settrace(func)
         sys.settrace = settrace
         return self
