@@ -131,10 +131,8 @@ def run_shear(scene=None, *, preset="quick", progress=False, keep_frames=False, 
 
 def _shear(p, progress, keep_frames):
     """The loop of ``shear run`` on validated parameters ``p``."""
-    import sys
-
-    from tqdm import tqdm
-
+    from fricstab import progress as say
+    from fricstab.cli.shear import SERIES
     from fricstab.protocols.shear_run import FRAME, SPF, ShearRun, prepare
     from fricstab.scenes.shear import make_cell
 
@@ -149,20 +147,18 @@ def _shear(p, progress, keep_frames):
 
     def take():
         fr = sim.frame()
-        rows.append([fr["time"], fr["strain"], fr["normal_force"], fr["shear_force"],
-                     fr["tau"], fr["height"]])
+        rows.append([fr[key] for key in SERIES])
         if writer is not None:
             writer.append(**fr)
 
     take()
-    with tqdm(total=n_frames, disable=not progress, desc="shear", unit="frame",
-              file=sys.stderr) as bar:
+    with say.bar(total=n_frames, enabled=progress, desc="shear", unit="frame") as bar:
         for k in range(1, n_frames + 1):
             sim.advance(spf)
             sim.scalars[FRAME] = k
             take()
             bar.update(1)
-    t, gamma, nf, sf, tau, h = np.array(rows).T
+    t, gamma, nf, sf, tau, h = np.array(rows).T   # the order of SERIES
     u = cell.units
     lx, nt = cell.lx * u.length, cell.n_target * u.force
     return ShearResult(gamma=gamma, shear_stress=sf / lx, normal_stress=nf / lx, tau=tau,
