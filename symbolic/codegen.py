@@ -84,9 +84,9 @@ import sympy as sp
 from symbolic.laws import CAPPED_LAWS, CONTACT, LAWS, PAIR_LAWS, derive
 from symbolic.printing import body as _body
 from symbolic.printing import code as _code
-from symbolic.uniform import (UNIFORM, capped_advance, capped_project, capped_rate, eval_kernel,
-                              family_advance, family_project, family_rate, generate_dispatch,
-                              normal_lines, uniform_doc, width_lines)
+from symbolic.uniform import (ON_CIRCLE, UNIFORM, capped_advance, capped_project, capped_rate,
+                              eval_kernel, family_advance, family_project, family_rate,
+                              generate_dispatch, normal_lines, uniform_doc, width_lines)
 
 __all__ = ["LEGACY_ASSEMBLE", "clear_numba_cache", "generate_capped_law", "generate_dispatch",
            "generate_law", "main", "render_all"]
@@ -156,6 +156,11 @@ def _legacy_assemble(law, args, nf, nq, nh):
 
 # ------------------------------------------------------------------ (kn, kt, mu, t) family
 
+def _hard_cap(law):
+    """True for a law whose Jacobian has the sliding flag (symbolic.linear.SLIDE)."""
+    return "slide" in {str(s) for s in law.jacobian.free_symbols}
+
+
 def _prologue(law, used):
     """Intermediates in order, the no-contact exit and the slip projection."""
     g = law.geometry
@@ -175,25 +180,38 @@ def _prologue(law, used):
     for sym in (getattr(g, "nx", None), getattr(g, "ny", None)):
         if sym is not None:
             lines.append(f"{sym} = {_code(defs[sym])}")
-    lines.append("sdelta = np.sqrt(delta)")
+    if "sdelta" in used:
+        lines.append("sdelta = np.sqrt(delta)")
     # |t| only where the Coulomb limit or the expressions need it (not Ishima's linear law)
     if law.history and (law.coulomb or used & {"tn", "inv_tn"}):
         t = [str(h) for h in law.history]
         lines.append(f"tn = np.sqrt({' + '.join(f'{c} * {c}' for c in t)})")
         if law.coulomb:
             lines.append("# Sliding: past t* = mu kn/kt delta the stored history is rescaled")
-            lines.append("# onto the Coulomb circle |t| = t*; at |t| = t* the smoothed law")
-            lines.append("# has zero radial stiffness, so force and Jacobian are continuous.")
+            if _hard_cap(law):
+                lines.append("# onto the Coulomb circle |t| = t* (a hard cap: the sliding block")
+                lines.append("# follows the projection, flag slide; symbolic/linear.py).")
+            else:
+                lines.append("# onto the Coulomb circle |t| = t*; at |t| = t* the smoothed law")
+                lines.append("# has zero radial stiffness, so force and Jacobian are continuous.")
             lines.append("tstar = mu * kn / kt * delta")
             if "slip_scale" in used:
                 lines.append("slip_scale = 1.0")
-            lines.append("if tn.real > tstar.real:")
+            if "slide" in used:
+                lines.append("slide = 0.0")
+            if _hard_cap(law):
+                lines.append("# On the circle to rounding slides, as project flags it.")
+                lines.append(f"if tn.real >= tstar.real * {ON_CIRCLE}:")
+            else:
+                lines.append("if tn.real > tstar.real:")
             lines.append("    scale = tstar / tn")
             for c in t:
                 lines.append(f"    {c} = {c} * scale")
             lines.append("    tn = tstar")
             if "slip_scale" in used:
                 lines.append("    slip_scale = scale  # d(t* t/|t|)/dt across the circle")
+            if "slide" in used:
+                lines.append("    slide = 1.0")
         if "inv_tn" in used:
             lines.append("# 1/|t| only multiplies products of t components: 0 is the limit at t = 0")
             lines.append("inv_tn = 1.0 / tn if tn.real > 0.0 else 0.0 * tn")

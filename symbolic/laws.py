@@ -41,6 +41,10 @@ Laws
     type C rolling spring (A13-A18), both capped; histories are the trial
     tangential force ``ft`` and rolling torque ``mr`` (scalars).  See
     :func:`lee_hurley_pair` and :func:`lee_hurley_wall`.
+``linear``, ``linear_wall`` (in :data:`LAWS`; :mod:`symbolic.linear`)
+    LAMMPS ``gran/hooke/history`` without damping: ``F_n = k_n delta``,
+    ``F_t = -k_t t`` with Charan's history projected onto ``|t| <= t*``
+    (a hard cap; its sliding Jacobian carries the flag ``slide``).
 
 Metadata (every law; written into each generated module)
 --------------------------------------------------------
@@ -63,7 +67,8 @@ from symbolic.geometry import (CylinderPairGeometry, CylinderWallGeometry, PairG
 
 __all__ = ["ALL_LAWS", "CAPPED_LAWS", "CONTACT", "LAWS", "PAIR_LAWS", "CappedLaw", "Law",
            "charan_pair", "charan_wall", "derive", "hertz_pair", "hertz_wall", "ishima_pair",
-           "ishima_wall", "lai_penalty", "lee_hurley_pair", "lee_hurley_wall"]
+           "ishima_wall", "lai_penalty", "lee_hurley_pair", "lee_hurley_wall", "linear_pair",
+           "linear_wall"]
 
 #: Names of the contact quantities of :attr:`Law.contact`, in order.
 CONTACT = ("kn", "kt", "kr", "fn")
@@ -559,6 +564,18 @@ def lee_hurley_wall():
 CAPPED_LAWS = {"lee_hurley": lee_hurley_pair, "lee_hurley_wall": lee_hurley_wall}
 
 
+def linear_pair():
+    """The linear spring-Coulomb law, disk-disk (:mod:`symbolic.linear`; imported late)."""
+    from symbolic.linear import linear_pair as derive_pair
+    return derive_pair()
+
+
+def linear_wall():
+    """The linear spring-Coulomb law on the substrate (:mod:`symbolic.linear`)."""
+    from symbolic.linear import linear_wall as derive_wall
+    return derive_wall()
+
+
 #: The (kn, kt, [mu], vector history t) family of :mod:`fricstab.laws.verify`.
 LAWS = {
     "hertz": hertz_pair,
@@ -567,11 +584,13 @@ LAWS = {
     "charan_wall": charan_wall,
     "ishima": ishima_pair,
     "ishima_wall": ishima_wall,
+    "linear": linear_pair,
+    "linear_wall": linear_wall,
 }
 
 #: Pair laws in dispatch order: the id of a law is its index here, and its
 #: wall form (``Law.partner``) has the same id.
-PAIR_LAWS = ("hertz", "charan", "ishima", "lee_hurley")
+PAIR_LAWS = ("hertz", "charan", "ishima", "lee_hurley", "linear")
 
 #: Every law: pair forms and their wall forms.
 ALL_LAWS = tuple(LAWS) + tuple(CAPPED_LAWS)

@@ -126,14 +126,18 @@ def _on_engine_branch(system, state):
     history's size only through terms of relative size 1e-12, far below the
     1e-10 bound, and the reference is differentiated on the engine's branch.
     Flags (:func:`fricstab.engine.passes.project_pass`): bit 1 the tangential
-    history, bit 2 the rolling history.  Only lee_hurley's block jumps at a cap.
+    history, bit 2 the rolling history.  lee_hurley's block jumps at a cap, and
+    linear's at its circle |t| = t* (its vector history moves as a whole).
     """
     hist = state.contacts.hist.copy()
-    if system.material.law != "lee_hurley":
+    if system.material.law not in ("lee_hurley", "linear"):
         return hist   # charan's smoothed Coulomb law is C1 at t*, ishima and hertz have no cap
     s = state.copy()
     system.project(s)
     flag = s.contacts.flag.astype(int)
+    if system.material.law == "linear":
+        slide = (flag & 1) != 0
+        return hist * np.where(slide, 1.0 + BRANCH_NUDGE, 1.0 - BRANCH_NUDGE)[:, None]
     for b, bit in enumerate((1, 2)):
         slide = (flag & bit) != 0
         hist[:, b] *= np.where(slide, 1.0 + BRANCH_NUDGE, 1.0 - BRANCH_NUDGE)

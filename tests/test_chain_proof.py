@@ -1,4 +1,4 @@
-"""System-level proof of the chain's assembled Jacobian, for each of the four laws.
+"""System-level proof of the chain's assembled Jacobian, for each law.
 
 Hypothesis generates chain states near equilibrium (:func:`chain_states`):
 2 to 5 disks, wall overlaps from 1e-12 R to a few rest overlaps (the ends
@@ -57,7 +57,7 @@ def chain_states(draw, law):
     params = {}
     if law == "lee_hurley":
         params["mur"] = draw(st.sampled_from([0.0, 0.01, 0.1]))
-    if law == "charan":
+    if law in ("charan", "linear"):
         params["mu"] = draw(st.sampled_from([0.1, 10.0]))
     fx = 0.0 if law == "hertz" else 0.01
     scene = ChainScene(n=n, law=law, fx=fx, params=params)
@@ -105,7 +105,7 @@ def chain_states(draw, law):
         factors = np.array([draw(st.floats(0.0, 1.0)) if r == "inside" else
                             draw(st.floats(1.0, 3.0)) if r == "past" else r for r in regime])
         c.hist *= factors.reshape(c.n, nh)
-        if law == "charan":
+        if law in ("charan", "linear"):
             c.hist[c.j < 0, 1] = 0.0        # the wall form has one slot
     return scene, system, state
 
@@ -137,6 +137,8 @@ def _stiffness_bound(scene, x):
     """
     p = scene.params
     arm = (1 + R) ** 2
+    if scene.law == "linear":  # kn, kt, and sliding mu kn + kt (slip_scale <= 1)
+        return arm * (p["kn"] * (1.0 + p["mu"]) + 2.0 * p["kt"])
     if scene.law == "lee_hurley":
         lam = cylinder_lambda(max(x, 1e-300), R, R)
         kn = math.pi * p["E"] / (lam - 1.0)
@@ -167,7 +169,7 @@ def central_model(scene, system, state, h):
       <= (1 + R) h) reaches a point at which the law is C1 but not C2, first
       order: ``|K_c| (1 + R) h / t*`` at t = 0 and ``|K_c| (1 + R) h (1/t* +
       1/delta)`` at the Coulomb circle (charan); where it reaches a cap of
-      lee_hurley (the force switches from the elastic trial to the cap) or the
+      lee_hurley or the circle of linear (the block jumps there) or the
       contact's edge, the derivatives themselves: ``|K_c|`` and the stiffness
       bound :func:`_stiffness_bound` at overlap delta + 2h.
     """
@@ -201,6 +203,14 @@ def central_model(scene, system, state, h):
                 e += kc[k] * (1 + R) * h / tstar
             if abs(tn - tstar) <= reach * (1 + tstar / d):
                 e += kc[k] * (1 + R) * h * (1 / tstar + 1 / d)
+        elif scene.law == "linear":
+            # smooth on each side (n turns on the scale r > d, t_hat on |t| = t*);
+            # a step that reaches the circle crosses the jump of the block
+            tstar = p["mu"] * p["kn"] / p["kt"] * d
+            tn = float(np.hypot(*c.hist[k, :2])) if c.j[k] >= 0 else abs(c.hist[k, 0])
+            e += kc[k] * h * h * (1 / d ** 2 + 1 / tstar ** 2)
+            if abs(tn - tstar) <= reach * (1 + tstar / d):
+                e += kc[k] + _stiffness_bound(scene, d + 2 * h)
         elif scene.law == "lee_hurley":
             e += kc[k] * (h / d) ** 2
             lam = cylinder_lambda(d, R, R)

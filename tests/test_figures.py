@@ -102,8 +102,13 @@ def test_ramp_figure_without_pairs_says_so_and_names_the_scenes_kn():
     texts = " ".join(t.get_text() for ax in fig.axes for t in ax.texts) + " ".join(
         t.get_text() for t in fig.texts)
     assert "no complex pair" in texts
-    assert "simulation's $k_n = 2000$" not in texts and "no $k_n$" in texts
+    assert "simulation's $k_n = 2000$" not in texts and "no Hertz $k_n$" in texts
     assert f"{reference_stiffness(scene):.6g}" in texts
+    # linear: its own k_n (force/length) and the Hertz k_n that sets the time unit
+    linear = ChainScene(law="linear")
+    note = cf.units_note(linear)
+    assert f"linear $k_n = {linear.params['kn']:.6g}$" in note
+    assert f"$k_n = {reference_stiffness(linear):.6g}$ is the Hertz" in note
     hertz = cf.units_note(ChainScene(law="hertz", params={"kn": 500.0}))
     assert "k_n = 500" in hertz
 

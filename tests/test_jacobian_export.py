@@ -14,6 +14,7 @@ CASES = {
     "ishima": ({"kn": 1.0, "kt": 0.5}, {}, False),
     "charan": ({"kn": 1.0, "kt": 0.5, "mu": 0.4}, {}, True),
     "hertz": ({"kn": 1.0}, {}, False),
+    "linear": ({"kn": 1.0, "kt": 0.3, "mu": 0.4}, {}, True),
 }
 
 

@@ -32,11 +32,12 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from fricstab._numerics import overlap_correction
 from fricstab.laws import LAW_NAMES, get_law
+from fricstab.laws.verify_common import HARD_CAP, on_cap
 from fricstab.laws.verify import (
     CENTRAL_BOUND, EXTREMES, Case, cancellation_factor, case_inputs, exact_reference_bound, central_error_model, central_jacobian,
     complex_step_jacobian, generated_jacobian, mp_central_jacobian, reference_increment,
@@ -68,6 +69,9 @@ def test_complex_step_agrees(name, case):
 @given(case=cases())
 def test_central_differences_agree_within_their_floor(name, case):
     law, args, f, jac, inc = _setup(name, case)
+    # a hard cap's block jumps on its circle: a difference step there crosses the jump;
+    # complex step (test_complex_step_agrees) checks those cases, as `fricstab verify` does
+    assume(not on_cap(law, dict(zip(law.inputs, args))))
     jfd, _ = central_jacobian(law, args, inc, jac)
     err = row_relative_error(jac, jfd)
     assert err <= max(CENTRAL_BOUND, 10.0 * central_error_model(law, args, jfd))
@@ -88,6 +92,7 @@ def test_mp50_central_differences_agree(name, case):
 @settings(max_examples=25)
 def test_taylor_remainder_is_second_order(name, case, data):
     law, args, f, jac, inc = _setup(name, case)
+    assume(not on_cap(law, dict(zip(law.inputs, args))))   # the jump: first order there
     direction = data.draw(directions(len(law.coords)))
     slope, errs = taylor_slope(law, args, inc, direction)
     kappa = cancellation_factor(law, args, jac)
@@ -162,17 +167,21 @@ def test_coulomb_condition_holds_for_any_history(name, case, overshoot):
         n = np.array([a["dx"], a["dy"]]) / r
         naive = a["Ri"] + a["Rj"] - r
         delta = naive + overlap_correction(a["dx"], a["dy"], a["Ri"], a["Rj"], naive)
-        fn = a["kn"] * delta ** 1.5
+        # the normal force of the law: Hertz kn delta^(3/2), or linear kn delta
+        fn = a["kn"] * delta ** (1.0 if name in HARD_CAP else 1.5)
         ft = np.linalg.norm(f[:2] - fn * n)
     else:
         fn, ft = f[1], abs(f[0])
     assert ft <= a["mu"] * fn * (1 + 1e-12)
 
 
-@pytest.mark.parametrize("name", COULOMB_LAWS)
+@pytest.mark.parametrize("name", [n for n in COULOMB_LAWS if n not in HARD_CAP])
 @given(case=cases())
 def test_block_is_continuous_across_the_coulomb_circle(name, case):
-    """At |t| = t* the smoothed law has zero radial stiffness: stick and slip agree."""
+    """At |t| = t* the smoothed law has zero radial stiffness: stick and slip agree.
+
+    Not for a hard cap (``linear``): its radial stiffness kt drops to 0 at the circle,
+    a jump that tests/test_linear_law.py asserts."""
     law = get_law(name)
     args_in = case_inputs(law, Case(**{**case.__dict__, "t_ratio": 1 - 1e-9}))
     inside = generated_jacobian(law, args_in)

@@ -1,6 +1,6 @@
 """The matrix: every pair law in every scene, from the command line with its defaults.
 
-For each of the 12 cells, ``fricstab SCENE jacobian --law LAW --out DIR``
+For each of the 15 cells, ``fricstab SCENE jacobian --law LAW --out DIR``
 (small systems, the law's documented defaults otherwise) exits 0 and writes the
 common files; the Jacobian recomputed from ``state.npz`` alone
 (:func:`fricstab.io.jacobian_export.system_from_state`) equals ``jacobian.npz``

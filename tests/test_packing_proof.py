@@ -1,4 +1,5 @@
-"""System-level proof of the packing's Jacobian for each law (hertz, ishima, charan, lee_hurley).
+"""System-level proof of the packing's Jacobian for each law (hertz, ishima, charan, lee_hurley,
+linear).
 
 Hypothesis generates periodic packings with a Lees-Edwards offset: a chain of
 contacts with overlaps from 1e-12 R to 3e-2 R, every disk then moved by a
@@ -40,7 +41,7 @@ from tests.system_proof import (
     WorstErrors, central_jacobian, complex_step_jacobian, engine_jacobian, translation_residual)
 
 EPS = np.finfo(float).eps
-LAWS = ("hertz", "ishima", "charan", "lee_hurley")
+LAWS = ("hertz", "ishima", "charan", "lee_hurley", "linear")
 CAPS = {"zero": 0.0, "inside": 0.5, "at": 1.0, "past": 1.5}
 WORST = WorstErrors(LAWS)
 
@@ -72,7 +73,7 @@ def _set_histories(system, state, regimes, rng):
         phi = rng.uniform(0, 2 * np.pi)
         if law == "ishima":        # no cap: a displacement of the overlap's size
             c.hist[a] = s * delta[a] * np.array([np.cos(phi), np.sin(phi)])
-        elif law == "charan":      # t* = mu (kn/kt) delta (Charan Eq. 5)
+        elif law in ("charan", "linear"):  # t* = mu (kn/kt) delta (Charan Eq. 5; linear's cap)
             tstar = p["mu"] * p["kn"] / p["kt"] * delta[a]
             c.hist[a] = s * tstar * np.array([np.cos(phi), np.sin(phi)])
         else:                      # caps mus F_n and mur R_r F_n (Lee & Hurley A10, A18)

@@ -1,4 +1,4 @@
-"""System-level proof of the plane-shear cell's Jacobian, for each of the four laws.
+"""System-level proof of the plane-shear cell's Jacobian, for each law.
 
 Hypothesis builds small cells: a fixed bottom row of touching disks filling
 the period (family 1), bulk disks (family 0) each placed on an earlier disk
@@ -6,8 +6,8 @@ at an overlap drawn log-uniformly down to 1e-12 R, and driven top-row disks
 (family 2) placed on the bulk; the box is so short (three bottom disks) that
 contacts cross the periodic boundary and the engine lists images.  Every
 history is drawn at 0, inside its cap, exactly on it or past it (the law's
-caps: lee_hurley's Coulomb and rolling caps, charan's circle |t| = t*; ishima
-has none, hertz no history).  Then, with the walls clamped:
+caps: lee_hurley's Coulomb and rolling caps, charan's and linear's circle
+|t| = t*; ishima has none, hertz no history).  Then, with the walls clamped:
 
 * the engine's assembled K = dF/dq against the complex step of the
   independent reference assembly of tests/system_proof.py (the verified
@@ -37,7 +37,8 @@ EPS = np.finfo(float).eps
 LAWS = {"lee_hurley": {"E": 1.0, "nu": 0.2, "mus": 0.7, "mur": 0.01},
         "hertz": {"kn": 5.0},
         "charan": {"kn": 5.0, "kt": 3.4, "mu": 0.7},
-        "ishima": {"kn": 5.0, "kt": 3.4}}
+        "ishima": {"kn": 5.0, "kt": 3.4},
+        "linear": {"kn": 1.0, "kt": 0.3, "mu": 0.7}}
 #: History modes: 0, inside the cap, exactly on it, past it.
 MODES = ("zero", "inside", "at", "past")
 H_FD = 1e-7
@@ -115,7 +116,7 @@ def _draw_histories(draw, rng, system, state):
             continue
         factor = {"inside": rng.uniform(0.0, 1.0), "at": 1.0,
                   "past": 1.0 + 10.0 ** rng.uniform(-9, 0)}[mode]
-        if system.material.law == "charan":  # one cap: the circle |t| = t*
+        if system.material.law in ("charan", "linear"):  # one cap: the circle |t| = t*
             ang = rng.uniform(0, 2 * np.pi)
             t = caps[k, :2]                  # the cap along a fixed direction: rescale
             c.hist[k, :2] = np.hypot(*t) * factor * np.array([np.cos(ang), np.sin(ang)])
@@ -174,6 +175,9 @@ def central_bound(system, state, h):
             kn, kt, mu = system._p
             contrib += np.where(touch & (tn > 0), 2 * kt ** 2 * arm ** 4 * h ** 2
                                 / (mu * kn * np.sqrt(safe) * np.where(tn > 0, tn, 1.0)), 0.0)
+        elif law == "linear":  # the block jumps at the circle, which moves with delta
+            tn, cap = np.hypot(*hist.T), np.hypot(*caps.T)
+            kink |= np.abs(tn - cap) < 4 * h * (rate + arm * cap / safe)
         else:
             kink |= np.any(np.abs(np.abs(hist) - caps) < 4 * h * rate[:, None], axis=1)
     index = np.full(system.n, -1)

@@ -170,11 +170,13 @@ def _composed(law, geo, p, h0, du):
     return h, flags, f
 
 
-def _charan_row_terms(args):
-    """Terms a charan force row sums: F_n + |F_t| <= F_n (1 + mu), times the arm for a torque."""
-    a = dict(zip(get_law("charan").inputs, args))
+def _charan_row_terms(args, name="charan"):
+    """Terms a charan (linear) force row sums: F_n + |F_t| <= F_n (1 + mu), times the arm
+    for a torque; F_n = kn delta^(3/2) (linear: kn delta)."""
+    a = dict(zip(get_law(name).inputs, args))
     delta = a["Ri"] + a["Rj"] - math.hypot(a["dx"], a["dy"])
-    return a["kn"] * abs(delta) ** 1.5 * (1 + a["mu"]) * max(1.0, a["Ri"], a["Rj"])
+    power = 1.0 if name == "linear" else 1.5
+    return a["kn"] * abs(delta) ** power * (1 + a["mu"]) * max(1.0, a["Ri"], a["Rj"])
 
 
 def _contact_reference(law, args):
@@ -190,6 +192,8 @@ def _contact_reference(law, args):
         delta = naive + overlap_correction(a["dx"], a["dy"], a["Ri"], a["Rj"], naive)
     else:
         delta = a["R"] - a["y"]
+    if law.name.startswith("linear"):   # F_n = kn delta, F_t = -kt t
+        return np.array([a["kn"], a["kt"], 0.0, a["kn"] * delta])
     sd = math.sqrt(delta)
     kt = a["kt"] * sd if law.n_hist else 0.0
     return np.array([a["kn"] * sd, kt, 0.0, a["kn"] * delta * sd])
@@ -216,8 +220,8 @@ def test_advance_is_rate_project_eval_composed(name, data):
     flags = law.advance(*_ageo(law, geo), p, h, *_disp(law, du), f, aux, True)
     assert flags == flags_c
     assert np.array_equal(h[:nh], h_c[:nh]) and np.isnan(h[nh:]).all()
-    if name == "charan":
-        assert np.all(np.abs(f - f_c) <= 16 * EPS * _charan_row_terms(args))
+    if name in ("charan", "linear"):  # the force kernel may rescale a projected t once more
+        assert np.all(np.abs(f - f_c) <= 16 * EPS * _charan_row_terms(args, name))
     else:
         assert np.array_equal(f, f_c)
     ref = _contact_reference(law, args)
@@ -485,7 +489,8 @@ def test_metadata_is_consistent_with_the_kernels(name):
     rot = {c.rstrip("_ij") for c in law.coords} - {"x", "y"}
     assert rot == ({law.rotation} if law.rotation else set())
     assert law.n_dof == (3 if law.rotation else 2)
-    assert law.capped == (name in ("charan", "charan_wall", "lee_hurley", "lee_hurley_wall"))
+    assert law.capped == (name in ("charan", "charan_wall", "lee_hurley", "lee_hurley_wall",
+                                   "linear", "linear_wall"))
     assert law.contact == ("kn", "kt", "kr", "fn")
     other = get_law(law.wall or law.pair)
     assert (other.pair or other.wall) == name and other.law_id == law.law_id
@@ -520,10 +525,11 @@ def test_metadata_is_consistent_with_the_kernels(name):
 
 
 def test_law_ids_and_names():
-    assert PAIR_LAW_NAMES == dispatch.PAIR_LAWS == ("hertz", "charan", "ishima", "lee_hurley")
+    assert PAIR_LAW_NAMES == dispatch.PAIR_LAWS == ("hertz", "charan", "ishima", "lee_hurley",
+                                                      "linear")
     assert WALL_LAW_NAMES == dispatch.WALL_LAWS
     assert set(ALL_LAW_NAMES) == set(PAIR_LAW_NAMES) | set(WALL_LAW_NAMES)
-    assert len(ALL_LAW_NAMES) == 8
+    assert len(ALL_LAW_NAMES) == 10   # five pair laws and their wall forms (issue 37: linear)
     for i, (pair, wall) in enumerate(zip(PAIR_LAW_NAMES, WALL_LAW_NAMES)):
         assert law_id(pair) == law_id(wall) == i
     from fricstab.laws import ParameterError

@@ -2,7 +2,7 @@
 
 Scene keys (``--scene FILE.toml``, overridden by ``--n --fy --mu --inertia``):
 ``fricstab scene show chain``.  Every command takes the contact law
-``--law hertz|charan|ishima|lee_hurley`` (default charan, the paper's) and its
+``--law hertz|charan|ishima|lee_hurley|linear`` (default charan, the paper's) and its
 parameters ``--param KEY=VALUE`` (repeatable; defaults in Charan's units,
 ``fricstab scene show chain``), ``--out DIR`` (required),
 ``--force``, ``--quiet``, ``--no-progress``, ``--dry-run`` (validate, print the
@@ -76,6 +76,11 @@ NEVER = {"breach": "never: null for a disk that did not reach the Coulomb limit 
 #: Why a command-line scale is kept in [1e-30, 1e30] (fricstab.io.scenes.SCALE_DOC).
 _WHY = " (beyond it the products of the scene's scales leave float64)"
 
+def _conventions():
+    from fricstab.scenes.chain import CONVENTIONS
+    return CONVENTIONS
+
+
 def add_parser(sub, parser_class, positive_float):
     """Register ``fricstab chain ramp|jacobian|dynamics|waves`` on the subparsers ``sub``."""
     from fricstab.io.results import add_run_options
@@ -106,6 +111,14 @@ def add_parser(sub, parser_class, positive_float):
         c.add_argument("--step", type=positive_float(1e-30, 1e30, _WHY), default=1e-3,
                        help="ramp step in F_x (default 1e-3); smaller is slower and, for the "
                             "ramp, resolves closer events")
+        if name in ("ramp", "jacobian"):
+            c.add_argument("--convention", default="physical", metavar="NAME",
+                           choices=tuple(_conventions()),
+                           help="matrix whose spectrum is taken: " + "; ".join(
+                               f"{k}: {v}" for k, v in _conventions().items())
+                           + " (default physical)" + (
+                               "; jacobian writes the convention's mass.npy" if name ==
+                               "jacobian" else ""))
         if name == "ramp":
             c.add_argument("--fx-max", type=positive_float(1e-30, 1e30, _WHY), default=0.1,
                            help="largest F_x (default 0.1)")
@@ -164,11 +177,12 @@ def _ramp(ns, argv):
     from fricstab.errors import check_finite
     from fricstab.figures.chain import ramp_figure
     from fricstab.protocols.ramp import run_ramp
-    from fricstab.scenes.chain import time_unit
+    from fricstab.scenes.chain import CONVENTIONS, eigenvalue_unit
 
     scene = _scene(ns, fx=ns.fx_max).with_fx(0.0)
     _check_ramp_steps(ns.fx_max, ns.step, "--fx-max")
-    protocol = {"fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol}
+    protocol = {"fx_max": ns.fx_max, "step": ns.step, "tol": ns.tol,
+                "convention": ns.convention}
     rd = _result_dir(ns, "ramp", ["ramp.npz", "ramp.png"], scene, protocol)
     steps = int(round(ns.fx_max / ns.step)) + 1
     from fricstab.cli import budget
@@ -179,21 +193,26 @@ def _ramp(ns, argv):
     progress.compile_note(["contact laws"], enabled=not ns.no_progress)
     with rd.stage("ramp"), progress.bar(total=steps, desc="ramp", unit="step",
                                         enabled=not ns.no_progress) as bar:
-        res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar)
-    check_finite("eigenvalue of M^-1 J", res.eigenvalues, item="ramp step")
+        res = run_ramp(scene, ns.fx_max, ns.step, tol=ns.tol, progress=bar,
+                       convention=ns.convention)
+    check_finite("eigenvalue", res.eigenvalues, item="ramp step")
     check_finite("force residual", res.residual, item="ramp step")
-    unit2 = time_unit(scene) ** 2  # eigenvalues in paper units
+    unit2 = eigenvalue_unit(scene, ns.convention)  # eigenvalues in paper units
     events = [{"kind": e.kind, "fx": e.fx, "fx_lo": e.fx_lo, "fx_hi": e.fx_hi,
                "located": e.located, "bisections": e.bisections,
                "pair_real_part_paper_units": e.pair_center * unit2} for e in res.events]
     doc = {"protocol_description": "quasistatic ramp, Newton relaxation from the previous step",
-           **protocol, "events": events,
+           **protocol, "convention_description": CONVENTIONS[ns.convention],
+           "eigenvalue_unit_note": "eigenvalues in ramp.npz are in simulation units; times "
+                                   "eigenvalue_unit they are in Charan's (t0 = sqrt(m 2R / kn)"
+                                   "; bare: per unit mass)", "events": events,
            "max_residual": float(res.residual.max()), **_meta(scene, ns, res.seconds)}
     with rd.stage("write"):
         rd.write_npz("ramp.npz", fx=res.fx, eigenvalues=res.eigenvalues,
                      condition=res.condition, residual=res.residual, growth=res.growth,
                      eigenvalue_unit=unit2)
-        rd.write_png("ramp.png", lambda tmp: ramp_figure(res, events, unit2, tmp, scene=scene))
+        rd.write_png("ramp.png", lambda tmp: ramp_figure(res, events, unit2, tmp, scene=scene,
+                                                         convention=ns.convention))
     _finish(rd, doc, scene, ns, argv, protocol)
     out = rd.path
     print(f"{len(events)} complex-pair events in F_x in [0, {ns.fx_max:g}] "
@@ -208,13 +227,14 @@ def _ramp(ns, argv):
 def _jacobian(ns, argv):
     from fricstab.errors import check_finite
     from fricstab.io.jacobian_export import FILES
-    from fricstab.scenes.chain import forces_and_jacobian
+    from fricstab.scenes.chain import CONVENTIONS, convention_scene, forces_and_jacobian
     from fricstab.scenes.chain_io import export_state
 
-    loaded = _scene(ns, fx=ns.fx)
+    # the convention's inertia (statics do not depend on it): mass.npy is its M
+    loaded = convention_scene(_scene(ns, fx=ns.fx), ns.convention)
     fx = loaded.fx
     _check_ramp_steps(fx, ns.step, "--fx")
-    protocol = {"fx": fx, "step": ns.step}
+    protocol = {"fx": fx, "step": ns.step, "convention": ns.convention}
     rd = _result_dir(ns, "jacobian", [*FILES, "jacobian.npy"], loaded, protocol)
     from fricstab.cli import budget
     steps = max(1, int(np.ceil(abs(fx) / ns.step)))
@@ -233,8 +253,11 @@ def _jacobian(ns, argv):
     with rd.stage("write"):
         for name in (*FILES, "jacobian.npy"):   # written by export_state: in the manifest
             rd.register(name)
-        export_state(loaded, state, rd.path)
+        export_state(loaded, state, rd.path, extra={
+            "convention": ns.convention, "convention_description": CONVENTIONS[ns.convention]})
     _finish(rd, {"max_force": float(np.abs(f[:, :loaded.dof]).max()),
+                 "convention": ns.convention,
+                 "convention_description": CONVENTIONS[ns.convention],
                  "shape": list(jac.shape), **_meta(loaded, ns, 0.0)}, loaded, ns, argv,
             protocol)
     print(f"equilibrium at F_x = {fx:g} ({loaded.law}): max |F| = "

@@ -38,8 +38,9 @@ UNITS = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, force "
 def units_note(scene=None):
     """The figure's units line; with ``scene``, its own k_n and F_y (or how k_n is set).
 
-    A law without a k_n (``lee_hurley``) takes the Hertz k_n with the same rest
-    overlap as its unit of stiffness (:func:`fricstab.scenes.chain.reference_stiffness`).
+    A law without a Hertz k_n (``lee_hurley``, and ``linear`` whose k_n is in
+    force/length) takes the Hertz k_n with the same rest overlap as its unit of
+    stiffness (:func:`fricstab.scenes.chain.reference_stiffness`).
     """
     head = (r"units (Charan): length $2R$, time $t_0=\sqrt{m\,2R/k_n}$, force "
             r"$k_n (2R)^{3/2}/2000$")
@@ -47,9 +48,12 @@ def units_note(scene=None):
         return UNITS
     from fricstab.scenes.chain import reference_stiffness
     kn = reference_stiffness(scene)
-    if "kn" in scene.params:
+    own = scene.params.get("kn")
+    if own == kn:
         return head + rf" (this scene: $k_n = {kn:.6g}$, $F_y = {scene.fy:g}$)"
-    return head + (rf" ({scene.law} has no $k_n$: $k_n = {kn:.6g}$ is the Hertz $k_n$ with its "
+    what = ("has no Hertz $k_n$" if own is None else
+            rf"has a linear $k_n = {own:.6g}$ (force/length)")
+    return head + (rf" ({scene.law} {what}: $k_n = {kn:.6g}$ is the Hertz $k_n$ with its "
                    rf"rest overlap; $F_y = {scene.fy:g}$)")
 
 
@@ -71,12 +75,18 @@ def _events_to_curves(ax, fx, w, events):
         ax.plot([e["fx"]], [0.0], "o", color="C0" if e["kind"] == "birth" else "C2", ms=3)
 
 
-def ramp_figure(res, events, unit2, path=None, scene=None):
+#: How each spectrum convention (fricstab.scenes.chain.CONVENTIONS) names its matrix.
+_MATRIX = {"physical": "M^{-1}J", "lammps": r"M^{-1}J,\ I = 2mR^2/5",
+           "sm": r"M^{-1}J,\ I = mR^2", "bare": r"J/m"}
+
+
+def ramp_figure(res, events, unit2, path=None, scene=None, convention="physical"):
     """Charan Fig. 2 from a ramp result (``res.fx`` (S,), ``res.eigenvalues`` (S, n)).
 
     ``events`` are the records of the ramp (dicts with ``fx`` and ``kind``),
     ``unit2`` the square of Charan's time unit (eigenvalues times it are in
-    units of t_0^-2); ``scene`` (optional) names its k_n and F_y in the units line.
+    units of t_0^-2); ``scene`` (optional) names its k_n and F_y in the units line;
+    ``convention`` the matrix whose spectrum it is (``bare``: J itself, per unit mass).
     Each pair's Im curve runs from its located birth to its located death; a
     ramp with no complex pair says so in the lower panel.
     """
@@ -101,8 +111,9 @@ def ramp_figure(res, events, unit2, path=None, scene=None):
                Line2D([], [], color="C0", lw=0.6, ls="--", label="birth of a pair"),
                Line2D([], [], color="C2", lw=0.6, ls="--", label="death of a pair")]
     top.legend(handles=handles, fontsize=8, loc="lower left")
-    top.set_ylabel(LABELS["re_lambda"])
-    bottom.set_ylabel(LABELS["im_lambda"])
+    matrix = _MATRIX.get(convention, "M^{-1}J")
+    top.set_ylabel(LABELS["re_lambda"].replace("M^{-1}J", matrix))
+    bottom.set_ylabel(LABELS["im_lambda"].replace("M^{-1}J", matrix))
     bottom.set_xlabel(LABELS["fx"])
     top.set_title("Chain ramp: eigenvalues against the pushing force (cf. Charan Fig. 2)")
     fig.tight_layout(rect=(0, 0.03, 1, 1))

@@ -7,8 +7,8 @@ capped scalar histories and their own verification (fricstab.laws.verify_lee_hur
 PAIR_LAW_NAMES: the pair laws in dispatch order (the id of a law is its index,
 its wall form, WALL_LAW_NAMES, has the same id; see dispatch.py)."""
 
-LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall')
+LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'linear', 'linear_wall')
 CAPPED_LAW_NAMES = ('lee_hurley', 'lee_hurley_wall')
-ALL_LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'lee_hurley', 'lee_hurley_wall')
-PAIR_LAW_NAMES = ('hertz', 'charan', 'ishima', 'lee_hurley')
-WALL_LAW_NAMES = ('hertz_wall', 'charan_wall', 'ishima_wall', 'lee_hurley_wall')
+ALL_LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'linear', 'linear_wall', 'lee_hurley', 'lee_hurley_wall')
+PAIR_LAW_NAMES = ('hertz', 'charan', 'ishima', 'lee_hurley', 'linear')
+WALL_LAW_NAMES = ('hertz_wall', 'charan_wall', 'ishima_wall', 'lee_hurley_wall', 'linear_wall')

@@ -207,7 +207,9 @@ class LawChoice:
     docs : dict
         ``law -> one line``: why these defaults (units, what they match).
     units : dict
-        ``parameter -> unit`` in this scene (for :func:`show`).
+        ``parameter -> unit`` in this scene (for :func:`show`); a key
+        ``"law.parameter"`` overrides it for that law (``linear``'s kn is a
+        force/length, Hertz's a force/length^(3/2)).
     refuse : callable, optional
         ``refuse(law, values) -> str or None``: why a combination cannot make
         sense here (one line), checked after validation.
@@ -464,7 +466,8 @@ def _show_laws(laws):
         for key in pair + wall:
             d = laws.defaults[law][key]
             shown = d.doc if isinstance(d, Derived) else f"{d:g}"
-            lines.append(f"    {key} = {shown}  [{laws.units.get(key, '-')}]  {docs.get(key, '')}")
+            unit = laws.units.get(f"{law}.{key}", laws.units.get(key, "-"))
+            lines.append(f"    {key} = {shown}  [{unit}]  {docs.get(key, '')}")
     return lines
 
 

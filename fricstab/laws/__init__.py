@@ -8,7 +8,7 @@ Sign and coordinate conventions are those of the generated modules' docstrings:
 Jacobian blocks are ``K = dF/dq`` (Charan's sign).  Ishima's Jacobian
 (Ishima Eq. 18) is ``-K`` in the coordinates (x, y, l = d theta/2).
 
-Eight laws, four pair laws and their wall forms (:data:`PAIR_LAW_NAMES`,
+Ten laws, five pair laws and their wall forms (:data:`PAIR_LAW_NAMES`,
 :data:`WALL_LAW_NAMES`; a pair law and its wall form share the integer id
 :func:`law_id` of :mod:`fricstab.generated.dispatch`).  Every law has the
 uniform kernels ``eval``, ``rate``, ``project``, ``advance`` (one calling

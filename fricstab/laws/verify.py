@@ -17,7 +17,11 @@ Every perturbation moves q *and* advances the tangential history by the law's
 increment rule, written here by hand from the papers (Charan Eq. 2, Ishima
 Eq. D4), independently of the SymPy source.  The laws are the
 ``(kn, kt, [mu], t)`` family :data:`fricstab.laws.LAW_NAMES`: hertz,
-hertz_wall, charan, charan_wall, ishima, ishima_wall.
+hertz_wall, charan, charan_wall, ishima, ishima_wall, linear, linear_wall.
+The block of ``linear`` jumps on its circle (a hard cap): a history there is
+checked by complex step only (``hard_cap_on_circle_cases``), and elsewhere the
+columns are shortened so that no difference step reaches it
+(:func:`fricstab.laws.verify_common.hard_cap_length`).
 
 Relative error of a block: for each row (one force or torque component) the
 largest ``|K - K_ref|`` divided by the largest ``|K_ref|`` of that row; a row
@@ -37,8 +41,8 @@ from fricstab.laws import get_law
 from fricstab.laws.verify_common import (  # the shared part; re-exported (see __all__)
     CENTRAL_BOUND, CENTRAL_STEPS, COMPLEX_STEP, EXACT_BOUND, EXTREMES, MP_DPS, MP_STEP,
     TAYLOR_RESOLUTION, TAYLOR_STEPS, Case, _overlap, _row_scale, cancellation_factor,
-    case_inputs, central_error_model, exact_reference_bound, row_relative_error,
-    sample_cases, taylor_consistent, uncancelled_scale)
+    case_inputs, central_error_model, exact_reference_bound, hard_cap_length, on_cap,
+    row_relative_error, sample_cases, taylor_consistent, uncancelled_scale)
 
 __all__ = [
     "CENTRAL_BOUND", "EXACT_BOUND", "EXTREMES", "Case", "cancellation_factor", "case_inputs",
@@ -85,7 +89,7 @@ def perturbation_columns(law, args):
     length = delta
     if law.coulomb:
         length = min(delta, a["mu"] * a["kn"] / a["kt"] * delta)
-    length = max(length, 1e-300)
+    length = max(hard_cap_length(law, a, length), 1e-300)
     cols = []
     for k, name in enumerate(law.coords):
         if law.kind == "pair":
@@ -150,6 +154,12 @@ def _central_column(law, args, inc, k, geo, h):
     return (_force(law, tuple(plus)) - _force(law, tuple(minus))) / (hp + hm)
 
 
+def _last_bit(law, args):
+    """ulp of the centre distance (pair) or of the height (wall)."""
+    a = dict(zip(law.inputs, args))
+    return math.ulp(math.hypot(a["dx"], a["dy"]) if law.kind == "pair" else a["y"])
+
+
 def central_jacobian(law, args, inc, jac_generated, steps=CENTRAL_STEPS):
     """float64 central differences at the best step of ``steps`` per column.
 
@@ -169,6 +179,8 @@ def central_jacobian(law, args, inc, jac_generated, steps=CENTRAL_STEPS):
             err = float(np.max(np.abs(col - jac_generated[:, k]) / scale))
             if col_best is None or err < err_best:
                 err_best, col_best, s_best = err, col, s
+        if col_best is None:  # every step below the last bit (a hard cap's short column)
+            col_best = _central_column(law, args, inc, k, geo, 4 * _last_bit(law, args))
         jac[:, k] = col_best
         best.append(s_best)
     return jac, best
@@ -285,6 +297,14 @@ def verify_case(law, args, direction):
     inc = reference_increment(law, args)
     finite = bool(np.all(np.isfinite(f)) and np.all(np.isfinite(jac)))
     jcs = complex_step_jacobian(law, args, inc)
+    if on_cap(law, dict(zip(law.inputs, args))):
+        # Hard cap, history on the circle: the block is the sliding one-sided
+        # derivative, which complex step checks; a difference step would cross
+        # the jump (tests/test_linear_law.py checks both one-sided limits).
+        kappa = cancellation_factor(law, args, jcs)
+        return {"finite": finite, "on_cap": True,
+                "kappa": {"complex_step": kappa, "central_mp": kappa},
+                "complex_step": row_relative_error(jac, jcs)}
     jfd, steps = central_jacobian(law, args, inc, jac)
     jmp = mp_central_jacobian(law, args, inc)
     slope, terrs = taylor_slope(law, args, inc, direction)
@@ -314,7 +334,7 @@ def verify_law(name, cases, seed, progress=None, radius=0.5, kn=1.0):
     worst = {}
     agg = {"complex_step": 0.0, "central": 0.0, "central_mp": 0.0}
     slopes, nonfinite, above, unexplained, allowed, linear = [], 0, 0, 0, 0.0, 0
-    taylor_failed = 0
+    taylor_failed = cap_cases = 0
     exact_above = {"complex_step": 0, "central_mp": 0}
     exact_unexplained = dict(exact_above)
     exact_conditioned = {"complex_step": 0.0, "central_mp": 0.0}
@@ -323,6 +343,10 @@ def verify_law(name, cases, seed, progress=None, radius=0.5, kn=1.0):
         direction = rng.uniform(-1.0, 1.0, len(law.coords))
         res = verify_case(law, args, direction)
         nonfinite += not res["finite"]
+        if res.get("on_cap"):  # hard cap on its circle: complex step only
+            cap_cases += 1
+            res = {**res, "central": 0.0, "central_mp": res["complex_step"],
+                   "central_model": 0.0, "taylor_slope": 2.0, "taylor_ok": True}
         for key in agg:
             val = res[key]
             if not math.isfinite(val):
@@ -382,5 +406,6 @@ def verify_law(name, cases, seed, progress=None, radius=0.5, kn=1.0):
         "taylor_rounding_level_cases": linear,
         "taylor_failed_cases": taylor_failed,
         "nonfinite": nonfinite,
+        "hard_cap_on_circle_cases": cap_cases,
         "worst": worst,
     }

@@ -18,8 +18,10 @@ from fricstab._numerics import overlap_correction
 
 __all__ = [
     "CENTRAL_BOUND", "CENTRAL_STEPS", "COMPLEX_STEP", "EPS", "EXACT_BOUND", "EXTREMES",
-    "MP_DPS", "MP_STEP", "ROUNDING_ULPS", "TAYLOR_RESOLUTION", "TAYLOR_STEPS", "Case",
-    "cancellation_factor", "case_inputs", "central_error_model", "exact_reference_bound",
+    "HARD_CAP", "MP_DPS", "MP_STEP", "ON_CAP", "ROUNDING_ULPS", "TAYLOR_RESOLUTION",
+    "TAYLOR_STEPS", "Case",
+    "cancellation_factor", "cap_gap", "case_inputs", "central_error_model", "hard_cap_length",
+    "on_cap", "exact_reference_bound",
     "pick_extreme", "row_relative_error", "sample_cases", "taylor_consistent",
     "uncancelled_scale"]
 
@@ -41,6 +43,14 @@ EXACT_BOUND = 1e-12
 #: Rounding of a generated block in eps of the terms a row sums (~100 flops;
 #: measured at most ~10 over 10,000 well-conditioned cases).
 ROUNDING_ULPS = 64
+
+#: Laws with a hard Coulomb cap (symbolic/linear.py): F_t = -k_t t, whose block
+#: jumps on the circle |t| = t* (sticking and sliding one-sided derivatives).
+HARD_CAP = ("linear", "linear_wall")
+#: Hard cap: a history with ||t|/t* - 1| below this is on the cap; the
+#: difference checks skip it (a step would cross the jump), complex step
+#: (branch on real parts) checks its sliding block.
+ON_CAP = 1e-6
 
 #: Ranges of the configuration space; the ends are sampled exactly.
 EXTREMES = {
@@ -137,6 +147,35 @@ def case_inputs(law, case, radius=0.5, kn=1.0):
     return tuple(float(v[name]) for name in law.inputs)
 
 
+def cap_gap(law, a):
+    """Hard cap: ``(|t| - t*, t*)``; ``(inf, inf)`` for any other law."""
+    if law.name not in HARD_CAP:
+        return math.inf, math.inf
+    tstar = a["mu"] * a["kn"] / a["kt"] * _overlap(law, a)
+    return math.sqrt(sum(a[h] ** 2 for h in law.history)) - tstar, tstar
+
+
+def hard_cap_length(law, a, length):
+    """Column length such that no difference step (<= 0.1 length) reaches the cap.
+
+    Per unit of a column (translation: unit length; rotation: length/R),
+    ``|t| - t*`` moves by at most ``|A_k| + (t*/delta) |d delta/dq_k| <= 1 + t*/delta``,
+    so with ``length <= |gap| / (1 + t*/delta)`` a step of 0.1 length moves it by
+    at most 0.1 |gap|.  Other laws, and a history on the cap (:func:`on_cap`, no
+    difference step is taken there): ``length`` unchanged.
+    """
+    gap, tstar = cap_gap(law, a)
+    if not math.isfinite(gap) or abs(gap) < ON_CAP * tstar:  # on the cap: complex step only
+        return length
+    return min(length, abs(gap) / (1.0 + tstar / _overlap(law, a)))
+
+
+def on_cap(law, a):
+    """True for a hard-cap history within :data:`ON_CAP` of its circle."""
+    gap, tstar = cap_gap(law, a)
+    return abs(gap) < ON_CAP * tstar
+
+
 def _overlap(law, a):
     """The overlap as the kernels compute it (accurate, see fricstab._numerics)."""
     if law.kind == "wall":
@@ -170,7 +209,11 @@ def uncancelled_scale(law, args):
     sd = math.sqrt(delta)
     fn = a["kn"] * delta * sd
     ft = 0.0
-    if law.history:
+    if law.name in HARD_CAP:  # F_n = kn delta, F_t = -kt t (|t| <= t*), dF_t/dt = kt
+        fn, sd = a["kn"] * delta, 1.0
+        tn = math.sqrt(sum(a[h] ** 2 for h in law.history))
+        ft = a["kt"] * min(tn, a["mu"] * a["kn"] / a["kt"] * delta)
+    elif law.history:
         tn = math.sqrt(sum(a[h] ** 2 for h in law.history))
         ft = a["kt"] * sd * tn
         if law.coulomb:
@@ -276,9 +319,17 @@ def central_error_model(law, args, jac):
         tstar = a["mu"] * a["kn"] / a["kt"] * delta
         curve = 2.0 / (delta * delta) + 1.0 / (tstar * tstar)
     kappa = cancellation_factor(law, args, jac)
+    # Hard cap: the columns are shortened so that no step reaches the cap
+    # (hard_cap_length), hence no kink term; the Coulomb curvature above
+    # bounds the linear law's (n and t_hat turn on the scales r and t*).
+    length = hard_cap_length(law, a, delta)
+    if law.name in HARD_CAP:
+        tstar = None
+        if CENTRAL_STEPS[0] * length < 2 * math.ulp(size):
+            return math.inf  # no float64 step stays on one side of the cap
     best = math.inf
     for step in CENTRAL_STEPS:
-        h = max(step * delta, math.ulp(size))
+        h = max(step * length, math.ulp(size))
         kink = 0.0
         if tstar is not None:
             # The history moves by ~h and t* by ~(t*/delta) h: a step that

@@ -174,7 +174,7 @@ def _indicator(scene, state, fx, center, radius, mass, relax):
 
 
 def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_iter=80,
-                 relax=_newton):
+                 relax=_newton, convention="physical"):
     """Bisect the sign change of the pair indicator D in ``[fx_lo, fx_hi]``.
 
     ``state_lo`` is the equilibrium at ``fx_lo``; every trial is relaxed from
@@ -182,9 +182,10 @@ def locate_event(scene, state_lo, fx_lo, fx_hi, center, radius, tol=1e-6, max_it
     :func:`fricstab.analysis.spectrum.pair_indicator`).  Returns ``(fx_lo, fx_hi,
     center, iterations, located)``; ``located`` is False when D has the same
     sign at both ends (two events within one step, or a pair that moved too
-    far to be tracked): refine the ramp step.
+    far to be tracked): refine the ramp step.  ``convention``: the spectrum's mass
+    matrix (:data:`fricstab.scenes.chain.CONVENTIONS`).
     """
-    mass = mass_vector(scene)
+    mass = mass_vector(scene, convention)
     d_lo, c_lo = _indicator(scene, state_lo, fx_lo, center, radius, mass, relax)
     d_hi, c_hi = _indicator(scene, state_lo, fx_hi, center, radius, mass, relax)
     if np.sign(d_lo) == np.sign(d_hi):
@@ -222,7 +223,7 @@ def _match(prev, cur, scale):
 
 
 def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, relax=_newton,
-             locate=True):
+             locate=True, convention="physical"):
     """Quasistatic F_x ramp of the chain; every birth and death of a complex pair located.
 
     F_x rises from 0 to ``fx_max`` in steps of ``step``; each step is relaxed from
@@ -255,6 +256,11 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, re
     locate : bool
         False: events at the step resolution only (``fx_lo``, ``fx_hi`` the
         step ends, ``located`` False).
+    convention : str
+        The matrix whose spectrum is taken (:data:`fricstab.scenes.chain.CONVENTIONS`):
+        ``physical`` (M^-1 J with the scene's inertia, default), ``lammps``
+        (I = 2/5 m R^2), ``sm`` (I = m R^2, Charan's supplementary material) or
+        ``bare`` (J itself, force/length).  The equilibria do not depend on it.
 
     Returns
     -------
@@ -284,7 +290,7 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, re
         check_instance("relax", relax, type(_newton), "a callable (relax_newton, relax_damped)")
     check_steps("run_ramp", fx_max / step, RAMP_MAX_STEPS)
     t0 = time.perf_counter()
-    mass = mass_vector(scene)
+    mass = mass_vector(scene, convention)
     state, _ = _equilibrium(scene, initial_state(scene.with_fx(0.0)), 0.0, relax)
     grid = np.round(np.arange(0.0, fx_max + 0.5 * step, step), 12)
     eig, cond, resid, growth, states, events = [], [], [], [], [], []
@@ -312,7 +318,7 @@ def run_ramp(scene, fx_max, step, tol=1e-6, progress=None, keep_states=False, re
                     if locate:
                         lo, hi, center, n_it, ok = locate_event(
                             scene, prev_state, grid[k - 1], fx, w.real, radius, tol,
-                            relax=relax)
+                            relax=relax, convention=convention)
                     else:
                         lo, hi, center, n_it, ok = grid[k - 1], fx, w.real, 0, False
                     events.append(Event(kind, 0.5 * (lo + hi), lo, hi, center, radius, n_it, ok))

@@ -44,8 +44,10 @@ from fricstab.engine.jacobian import jacobian
 from fricstab.errors import check_instance, check_int, check_real, check_state
 from fricstab.laws import PAIR_LAW_NAMES, ParameterError, get_law
 
-__all__ = ["ChainScene", "LAW_DEFAULTS", "LAW_DOCS", "LAW_UNITS", "LEE_HURLEY_E",
-           "chain_system", "check_chain", "forces", "forces_and_jacobian", "initial_state", "law_defaults",
+__all__ = ["CONVENTIONS", "CONVENTION_INERTIA", "ChainScene", "LAW_DEFAULTS", "LAW_DOCS",
+           "LAW_UNITS", "LEE_HURLEY_E",
+           "chain_system", "check_chain", "check_convention", "convention_scene",
+           "eigenvalue_unit", "forces", "forces_and_jacobian", "initial_state", "law_defaults",
            "legacy_order", "mass_vector", "pair_history", "reference_stiffness", "refusal",
            "rest_overlap", "scaled", "time_unit", "wall_history", "wall_slots",
            "wall_stiffness"]
@@ -58,6 +60,10 @@ LEE_HURLEY_E = 215.975945884343
 
 _KT = ("2 kn / 7", lambda v: 2.0 * v["kn"] / 7.0)
 
+#: kn of ``linear`` (force/length): F_y/kn = (F_y/2000)^(2/3), Hertz's rest
+#: overlap 1.3572e-3 at F_y = 0.1, so the chain rests at the paper's height.
+LINEAR_KN = 0.1 / (0.1 / 2000.0) ** (2.0 / 3.0)
+
 #: Default law parameters in Charan's units (a pair ``(doc, fn)`` is derived
 #: from the other values: ``fn(values)``).
 LAW_DEFAULTS = {
@@ -66,6 +72,7 @@ LAW_DEFAULTS = {
     "ishima": {"kn": 2000.0, "kt": _KT},
     "lee_hurley": {"E": LEE_HURLEY_E, "nu": 0.2, "mus": 10.0, "mur": 0.0,
                    "Rw": ("R (the disk radius)", lambda v: v["radius"])},
+    "linear": {"kn": LINEAR_KN, "kt": _KT, "mu": 10.0},
 }
 
 LAW_DOCS = {
@@ -80,10 +87,14 @@ LAW_DOCS = {
                   "mur = 0 (no rolling resistance, as Charan's contacts; with mur > 0 the "
                   "ring pairs' rolling moments sit on caps that vanish with their normal "
                   "force and Newton alternates between the two signs of the cap), Rw = R",
+    "linear": "linear spring-Coulomb (LAMMPS gran/hooke/history, no damping): kn = 73.68 "
+              "gives the wall overlap of Hertz kn = 2000 under F_y = 0.1, kt = 2 kn / 7 "
+              "(LAMMPS's default), mu = 10",
 }
 
 LAW_UNITS = {"kn": "force/length^(3/2)", "kt": "force/length^(3/2)", "mu": "-",
-             "E": "force/length", "nu": "-", "mus": "-", "mur": "-", "Rw": "length"}
+             "E": "force/length", "nu": "-", "mus": "-", "mur": "-", "Rw": "length",
+             "linear.kn": "force/length", "linear.kt": "force/length"}
 
 #: Wall skin: every disk less than a period above the floor keeps its wall
 #: contact listed, so the contact list of a chain never changes in a run.
@@ -151,8 +162,9 @@ class ChainScene:
     fx : float
         Tangential force on disk 0 (force).
     inertia : float, optional
-        Moment of inertia (mass length^2); default ``m R^2 / 2``, a uniform disk
-        (the paper does not state it).
+        Moment of inertia (mass length^2); default ``m R^2 / 2``, a uniform disk.
+        The paper's supplementary material states ``I = m R^2`` for its Jacobian
+        (:data:`CONVENTIONS`); its LAMMPS dynamics default to ``2/5 m R^2``.
     law : str
         Pair law (:data:`PAIR_LAW_NAMES`; the paper's ``charan``, Eqs. 1, 2, 5),
         with its wall form at the substrate.
@@ -281,6 +293,8 @@ def chain_system(scene):
 def _rest_overlap(key):
     n, radius, mass, fy, inertia, law, params, wall = key
     p = dict(params)
+    if law == "linear":
+        return fy / p["kn"]
     if law != "lee_hurley":
         return (fy / p["kn"]) ** (2.0 / 3.0)
     from scipy.optimize import brentq
@@ -295,18 +309,19 @@ def _rest_overlap(key):
 def rest_overlap(scene):
     """Wall overlap delta_w of a disk under F_y alone (length).
 
-    Hertz normal force (hertz, charan, ishima): ``(F_y/kn)^(2/3)``;
-    ``lee_hurley``: the root of ``pi E* delta / lam(delta) = F_y`` (Eq. A2).
+    Hertz normal force (hertz, charan, ishima): ``(F_y/kn)^(2/3)``; ``linear``:
+    ``F_y/kn``; ``lee_hurley``: the root of ``pi E* delta / lam(delta) = F_y`` (Eq. A2).
     """
     return _rest_overlap(scene.key())
 
 
 def reference_stiffness(scene):
-    """kn of the law, or for ``lee_hurley`` the Hertz kn with the same rest overlap.
+    """kn of the law, or for ``lee_hurley``, ``linear`` the Hertz kn with the same rest overlap.
 
-    Sets Charan's time unit sqrt(m 2R / kn) and the scales of the protocols.
+    Sets Charan's time unit sqrt(m 2R / kn) and the scales of the protocols
+    (``linear``'s kn is a force/length, not a Hertz stiffness).
     """
-    if "kn" in scene.params:
+    if "kn" in scene.params and scene.law != "linear":
         return scene.params["kn"]
     return scene.fy / rest_overlap(scene) ** 1.5
 
@@ -314,8 +329,11 @@ def reference_stiffness(scene):
 def wall_stiffness(scene):
     """dF_n/d delta of the wall contact at the rest overlap (force/length).
 
-    Hertz: ``1.5 kn (F_y/kn)^(1/3)``; Hertz cylinders: ``pi E* / (lam - 1)``.
+    Hertz: ``1.5 kn (F_y/kn)^(1/3)``; Hertz cylinders: ``pi E* / (lam - 1)``;
+    linear: ``kn``.
     """
+    if scene.law == "linear":
+        return scene.params["kn"]
     if scene.law != "lee_hurley":
         kn = scene.params["kn"]
         return 1.5 * kn * (scene.fy / kn) ** (1 / 3)
@@ -345,10 +363,74 @@ def initial_state(scene, wall_overlap=None):
     return chain_system(scene).state(pos)
 
 
-def mass_vector(scene):
-    """Generalized masses of the Jacobian's dof (m, m, I/s^2 per disk; s = 1 or R)."""
-    system = chain_system(scene)
-    return system.gmass[:, :system.dof].ravel().copy()
+#: The mass matrices under which the chain's spectrum can be taken.  Charan et al. print
+#: eigenvalues "of J" without saying which matrix; each reading is an option of
+#: ``fricstab chain ramp|jacobian`` (``--convention``) and of the analyses
+#: (:func:`mass_vector`).  The statics (equilibria, histories) never depend on it.
+CONVENTIONS = {
+    "physical": "M^-1 J with the scene's moment of inertia (default I = m R^2 / 2, a "
+                "uniform disk); eigenvalues in 1/time^2",
+    "lammps": "M^-1 J with I = 2/5 m R^2, the default of LAMMPS' fix nve/sphere (a "
+              "sphere's inertia; the paper ran LAMMPS); eigenvalues in 1/time^2",
+    "sm": "M^-1 J with I = m R^2: the supplementary material's I_i = I_0 m_i R^2 with "
+          "m_i = I_0 = 1 (around its Eqs. 36-37); the same spectrum as its scaled J~ "
+          "for m = 1; eigenvalues in 1/time^2",
+    "bare": "J itself, no mass matrix (eigenvalues in force/length); for m = 1 the same "
+            "spectrum as M^-1 J with I = 1 = m (2R)^2 in Charan's units",
+}
+
+#: I / (m R^2) of each convention that fixes the inertia (``physical``: the scene's own).
+CONVENTION_INERTIA = {"lammps": 0.4, "sm": 1.0}
+
+
+def check_convention(convention):
+    """The convention's name, or ParameterError naming the known ones."""
+    if not isinstance(convention, str) or convention not in CONVENTIONS:
+        raise ParameterError(f"unknown spectrum convention {convention!r}; known: "
+                             f"{', '.join(CONVENTIONS)}")
+    return convention
+
+
+def convention_scene(scene, convention):
+    """The scene whose physical M^-1 J is ``convention``'s matrix (``bare``: I = m (2R)^2 at m = 1).
+
+    For dynamics under the same reading (``fricstab chain dynamics --inertia``):
+    ``physical`` the scene itself, ``lammps`` I = 2/5 m R^2, ``sm`` I = m R^2; for
+    ``bare`` the scene with I = m (2R)^2, whose M^-1 J is J itself where m = 1 and
+    2R = 1 (Charan's units); elsewhere the two spectra differ by those factors.
+    """
+    check_convention(convention)
+    if convention == "physical":
+        return scene
+    if convention == "bare":
+        return replace(scene, inertia=scene.mass * (2 * scene.radius) ** 2)
+    return replace(scene, inertia=CONVENTION_INERTIA[convention] * scene.mass * scene.radius ** 2)
+
+
+def mass_vector(scene, convention="physical"):
+    """Generalized masses of the Jacobian's dof under a spectrum convention.
+
+    ``physical`` (default): (m, m, I/s^2) per disk with the scene's inertia
+    (s = 1 for theta, R for Ishima's l = R theta); ``lammps`` and ``sm`` the
+    same with I = 2/5 m R^2 and m R^2; ``bare``: ones (the eigenvalues of J
+    itself).  :data:`CONVENTIONS` says what each reading is.
+    """
+    check_convention(convention)
+    system = chain_system(scene if convention in ("physical", "bare")
+                          else convention_scene(scene, convention))
+    mass = system.gmass[:, :system.dof].ravel().copy()
+    return np.ones_like(mass) if convention == "bare" else mass
+
+
+def eigenvalue_unit(scene, convention="physical"):
+    """The factor that puts an eigenvalue of ``convention`` in Charan's units.
+
+    ``t0^2`` (t0 = :func:`time_unit`) for the M^-1 J readings; ``t0^2 / m``
+    for ``bare`` (force/length over mass: the same number as M^-1 J at m = 1).
+    """
+    check_convention(convention)
+    unit = time_unit(scene) ** 2
+    return unit / scene.mass if convention == "bare" else unit
 
 
 def scaled(scene, jac):
@@ -397,11 +479,11 @@ def pair_history(scene, state):
     """(N, H) history of ring pair (i, i+1 mod N), i relative to i+1 (pre-engine orientation).
 
     The sign flip of the wrapping pair applies to lab-frame displacement
-    histories (charan, ishima); ``lee_hurley``'s (ft, mr) are returned as stored.
+    histories (charan, ishima, linear); ``lee_hurley``'s (ft, mr) are returned as stored.
     """
     rows, sign = legacy_order(state)
     h = state.contacts.hist[rows[:scene.n]]
-    if scene.law in ("charan", "ishima"):
+    if scene.law in ("charan", "ishima", "linear"):
         h = h * sign[:scene.n, None]
     return h
 

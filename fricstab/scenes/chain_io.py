@@ -94,7 +94,7 @@ def legacy_arrays(scene, state):
     ``q``: x, y, theta (radians, counter-clockwise; physical theta for every
     law).  ``t``: one row per contact in the pre-engine order (ring pairs
     (i, i+1 mod N), then the wall contacts of disks 0..N-1): for charan and
-    ishima the tangential displacement of i relative to i+1 in the lab frame
+    ishima (and linear) the tangential displacement of i relative to i+1 in the lab frame
     (a wall row (t_x, 0)); for lee_hurley the stored (ft, mr); zeros for a
     frictionless law.
     """
@@ -103,7 +103,7 @@ def legacy_arrays(scene, state):
     h = state.contacts.hist[rows]
     t = np.zeros((len(rows), 2))
     t[:, :h.shape[1]] = h
-    if scene.law in ("charan", "ishima"):
+    if scene.law in ("charan", "ishima", "linear"):
         t *= sign[:, None]
     return {"q": np.column_stack([pos, theta]), "t": t}
 

@@ -48,6 +48,11 @@ def _matched_modulus(delta, ri=0.5, rj=0.5):
 
 
 E_MATCHED = round(float(_matched_modulus(TYPICAL_OVERLAP)), 4)
+#: kn of ``linear`` (a force/length, k_N d^(1/2)): Hertz's stiffness
+#: dF/d xi = 1.5 k_N xi^(1/2) at the median overlap, as E_MATCHED matches it.
+LINEAR_KN = round(1.5 * KN * float(np.sqrt(TYPICAL_OVERLAP)), 6)
+#: kt of ``linear``: ishima's tangential stiffness kT xi^(1/2) (kT/kN = 1) there.
+LINEAR_KT = round(KN * float(np.sqrt(TYPICAL_OVERLAP)), 6)
 
 
 def _refuse(law, values):
@@ -65,6 +70,7 @@ LAWS = LawChoice(
         "ishima": {"kn": KN, "kt": 1.0},
         "charan": {"kn": KN, "kt": 1.0, "mu": 0.5},
         "lee_hurley": {"E": E_MATCHED, "nu": 0.2, "mus": 0.7, "mur": 0.01, "Rw": 1.0},
+        "linear": {"kn": LINEAR_KN, "kt": LINEAR_KT, "mu": 0.5},
     },
     docs={
         "hertz": "frictionless, 2 dof per disk: J is the Hessian of the Hertz energy (App. A.1)",
@@ -78,9 +84,12 @@ LAWS = LawChoice(
                       f"two large disks at delta = {TYPICAL_OVERLAP:g} d, the median overlap "
                       "at phi = 0.90 (pi E*/(lam - 1), Lee & Hurley A2); nu, mus, mur as "
                       "Lee & Hurley's shear cell (0.2, 0.7, 0.01); Rw unused (no walls)",
+        "linear": f"kn = {LINEAR_KN:g} is Hertz's stiffness 1.5 k_N delta^(1/2) and kt = "
+                  f"{LINEAR_KT:g} ishima's kT delta^(1/2) (kT/kN = 1) at delta = "
+                  f"{TYPICAL_OVERLAP:g} d, the median overlap at phi = 0.90; mu = 0.5 as charan",
     },
     units={"kn": "k_N", "kt": "k_N", "mu": "-", "E": "k_N d^(1/2)", "nu": "-", "mus": "-",
-           "mur": "-", "Rw": "d"},
+           "mur": "-", "Rw": "d", "linear.kn": "k_N d^(1/2)", "linear.kt": "k_N d^(1/2)"},
     refuse=_refuse,
 )
 

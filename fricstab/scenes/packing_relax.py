@@ -148,8 +148,11 @@ def frictionless_form(mat):
     ``k_N xi^(3/2)`` with their ``kn``); for ``lee_hurley`` the same law with
     its Coulomb caps at ``1e-300`` of the normal force and no rolling
     resistance (every contact slides: the tangential force and the torques
-    vanish to round-off, the normal force is the law's).
+    vanish to round-off, the normal force is the law's); ``linear`` likewise
+    with ``mu = 1e-300`` (its normal force ``kn xi`` is not Hertz's).
     """
+    if mat.law == "linear":
+        return replace(mat, params={**mat.params, "mu": 1e-300})
     if "kn" in mat.params:
         return Material("hertz", {"kn": mat.params["kn"]})
     return replace(mat, params={**mat.params, "mus": 1e-300, "mur": 0.0})

@@ -121,12 +121,20 @@ _KT = Derived(_kt, "Lai's k_t of lee_hurley (nu = 0.2) at delta_0 / delta_0^(1/2
 ISHIMA_KT_FACTOR = 0.1
 _KT_ISHIMA = Derived(lambda v: ISHIMA_KT_FACTOR * _kt(v),
                      "0.1 x Lai's k_t of lee_hurley at delta_0 / delta_0^(1/2)")
-#: Unit of each law parameter in the scene, and its reduced unit (as a function of Units).
+_KN_LINEAR = Derived(lambda v: _lee_hurley_contact(typical_overlap(v["kappa"]))[0]
+                     / typical_overlap(v["kappa"]) * v["modulus"],
+                     "f_n of lee_hurley at the typical overlap delta_0 (kappa) / delta_0")
+_KT_LINEAR = Derived(lambda v: _lee_hurley_contact(typical_overlap(v["kappa"]))[1]
+                     * v["modulus"], "Lai's k_t of lee_hurley (nu = 0.2) at delta_0")
+#: Unit of each law parameter in the scene, and its reduced unit (as a function of Units);
+#: a key "law.parameter" is that law's (linear's springs are N/m per m: Pa).
 PARAM_UNITS = {"E": "Pa", "nu": "-", "mus": "-", "mur": "-", "mu": "-", "Rw": "m",
-               "kn": "Pa m^(-1/2) (N/m per m^(3/2))", "kt": "Pa m^(-1/2) (N/m per m^(3/2))"}
+               "kn": "Pa m^(-1/2) (N/m per m^(3/2))", "kt": "Pa m^(-1/2) (N/m per m^(3/2))",
+               "linear.kn": "Pa (N/m per m)", "linear.kt": "Pa (N/m per m)"}
 _REDUCE = {"E": lambda u: u.pressure, "Rw": lambda u: u.length,
            "kn": lambda u: u.pressure / math.sqrt(u.length),
-           "kt": lambda u: u.pressure / math.sqrt(u.length)}
+           "kt": lambda u: u.pressure / math.sqrt(u.length),
+           "linear.kn": lambda u: u.pressure, "linear.kt": lambda u: u.pressure}
 
 LAWS = LawChoice(
     default="lee_hurley",
@@ -137,6 +145,7 @@ LAWS = LawChoice(
         "hertz": {"kn": _KN},
         "charan": {"kn": _KN, "kt": _KT, "mu": PAPER_MUS},
         "ishima": {"kn": _KN, "kt": _KT_ISHIMA},
+        "linear": {"kn": _KN_LINEAR, "kt": _KT_LINEAR, "mu": PAPER_MUS},
     },
     docs={
         "lee_hurley": "the paper's law (App. A): E* = modulus, nu, mu_s, mu_r of Sec. 2; "
@@ -148,6 +157,9 @@ LAWS = LawChoice(
         "ishima": "no Coulomb cap (tangential springs never slide): kn as hertz, kt a tenth "
                   "of charan's (with charan's, rearrangements lift the top row off); slips "
                   "are rearrangements and rolling",
+        "linear": "linear spring-Coulomb (LAMMPS gran/hooke/history, mu = mu_s): kn delta_0 "
+                  "= lee_hurley's normal force, kt = Lai's k_t of lee_hurley at delta_0; no "
+                  "rolling resistance",
     },
     units=PARAM_UNITS,
 )
@@ -210,7 +222,7 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
 
 #: Unit (a Units attribute) of each history slot of each law, for SI frames.
 HISTORY_UNITS = {"lee_hurley": ("force", "moment"), "charan": ("length", "length"),
-                 "ishima": ("length", "length"), "hertz": ()}
+                 "ishima": ("length", "length"), "hertz": (), "linear": ("length", "length")}
 
 
 def restitution(alpha):
@@ -268,7 +280,8 @@ def material(params, units=None):
     """The engine :class:`Material` of ``params`` (SI; in the reduced ``units`` if given)."""
     law = dict(params["law_params"])
     if units is not None:
-        law = {k: v / _REDUCE[k](units) if k in _REDUCE else v for k, v in law.items()}
+        red = {k: _REDUCE.get(f"{params['law']}.{k}", _REDUCE.get(k)) for k in law}
+        law = {k: v / red[k](units) if red[k] is not None else v for k, v in law.items()}
     return Material(params["law"], law)
 
 

@@ -9,8 +9,9 @@ INTRO = ("Generated force, torque and Jacobian blocks of every law against compl
 
 SEED = 20261121
 EPS = 2.220446049250313e-16
-#: the six (kn, kt, mu, t) laws and the two Lee & Hurley forms, as `fricstab verify` names them
-SIX = ("hertz", "hertz_wall", "charan", "charan_wall", "ishima", "ishima_wall")
+#: the eight (kn, kt, mu, t) laws (the Lee & Hurley forms apart), as `fricstab verify` names them
+KNKT = ("hertz", "hertz_wall", "charan", "charan_wall", "ishima", "ishima_wall", "linear",
+        "linear_wall")
 CAPPED = ("lee_hurley", "lee_hurley_wall")
 REGIMES = ("stick", "slide_t", "slide_r", "slide_both")
 REGIME_TEXT = {"stick": "stick", "slide_t": "tangential slide", "slide_r": "rolling slide",
@@ -36,7 +37,7 @@ def _validation_script(name):
 # ------------------------------------------------------------ seconds: quick complex step
 
 def kernels_quick():
-    """Complex step against the generated K, the six (kn, kt, mu, t) laws, 50 seeded cases."""
+    """Complex step against the generated K, the eight (kn, kt, mu, t) laws, 50 seeded cases."""
     from fricstab.laws import LAW_NAMES
     from fricstab.laws.verify import sample_cases, verify_law
     worst, unexplained = {}, 0
@@ -100,24 +101,24 @@ def verify_run():
 
 
 def _exact_verdict(v, key, unexplained):
-    """meets: every case of the six laws within its rounding bound (literal maximum shown)."""
-    n = sum(v["laws"][k][unexplained] for k in SIX)
-    worst = max(v["laws"][k][key] for k in SIX)
-    cases = sum(v["laws"][k]["cases"] for k in SIX)
+    """meets: every case of the eight laws within its rounding bound (literal maximum shown)."""
+    n = sum(v["laws"][k][unexplained] for k in KNKT)
+    worst = max(v["laws"][k][key] for k in KNKT)
+    cases = sum(v["laws"][k]["cases"] for k in KNKT)
     return Verdict("meets" if n == 0 and v["status"] == 0 else "fails",
                    f"{n} of {cases:,} cases beyond max(1e-12, 64 eps x cancellation); "
                    f"largest {worst:.1e}")
 
 
 def _per_law(v, key):
-    return ", ".join(f"{k} {v['laws'][k][key]:.1e}" for k in SIX)
+    return ", ".join(f"{k} {v['laws'][k][key]:.1e}" for k in KNKT)
 
 
 def _check_verify(a, b):
     """Round-off of another CPU: worst errors within 10x; the unexplained counts, the
     NaN/inf count and the exit status exact; the cases above 1e-6 within 10 % (a case
     near the bound crosses it with the rounding of its best step)."""
-    for k in SIX:
+    for k in KNKT:
         x, y = a["laws"][k], b["laws"][k]
         for key in ("complex_step", "mp50", "central"):
             if y[key] > 10 * max(x[key], 1e-16):
@@ -149,13 +150,13 @@ VERIFY_TOLERANCE = ("worst errors within 10x (round-off of another CPU's instruc
 
 
 def _taylor_min(v):
-    slopes = [v["laws"][k]["taylor_min"] for k in SIX if v["laws"][k]["taylor_min"] is not None]
+    slopes = [v["laws"][k]["taylor_min"] for k in KNKT if v["laws"][k]["taylor_min"] is not None]
     slopes += [g["taylor_min"] for law in CAPPED for g in v["capped"][law].values()]
     return min(slopes)
 
 
 def _nonfinite(v):
-    return (sum(v["laws"][k]["nonfinite"] for k in SIX)
+    return (sum(v["laws"][k]["nonfinite"] for k in KNKT)
             + sum(g["nonfinite"] for law in CAPPED for g in v["capped"][law].values()))
 
 
@@ -173,11 +174,11 @@ def _capped_show(v, key):
 
 
 def verify_table(v):
-    """The table of the six laws in docs/reference/verification.md."""
+    """The table of the eight laws in docs/reference/verification.md."""
     lines = ["| law | complex step | 50-digit central | float64 central (best step) | "
              "cases > 1e-6 (all explained) | Taylor slope | NaN/inf |",
              "|---|---|---|---|---|---|---|"]
-    for k in SIX:
+    for k in KNKT:
         x = v["laws"][k]
         lines.append(f"| {k} | {x['complex_step']:.1e} | {x['mp50']:.1e} | {x['central']:.1e} | "
                      f"{x['central_above']} | {x['taylor_min']:.3f} | {x['nonfinite']} |")
@@ -218,7 +219,7 @@ def pair_table(v):
 
 
 def _exact_max(v):
-    return max(max(v["laws"][k][key] for k in SIX for key in ("complex_step", "mp50")),
+    return max(max(v["laws"][k][key] for k in KNKT for key in ("complex_step", "mp50")),
                _capped_worst(v, "complex_step"), _capped_worst(v, "mp50"))
 
 
@@ -468,7 +469,7 @@ def _claim(short, title, tier, command, compute, show, tolerance, check, **kw):
 
 CLAIMS = [
     _claim("complex_step_quick",
-           "generated K vs complex step, the six (kn, kt, mu, t) laws, 50 seeded cases each",
+           "generated K vs complex step, the eight (kn, kt, mu, t) laws, 50 seeded cases each",
            "seconds", "python validation/reproduce.py --claim kernels.complex_step_quick",
            kernels_quick,
            show=lambda v: ", ".join(f"{k} {x:.1e}" for k, x in v["worst"].items())
@@ -494,38 +495,38 @@ CLAIMS = [
                                            1e-12, "worst error")),
     # --- fricstab verify, 2,000 cases per law (one job)
     _claim("verify_complex_step",
-           "generated K vs complex step, the six (kn, kt, mu, t) laws, max row-relative error "
+           "generated K vs complex step, the eight (kn, kt, mu, t) laws, max row-relative error "
            "over 2,000 seeded cases each (extremes included)",
            "minutes", VERIFY_COMMAND, verify_run,
-           show=lambda v: _per_law(v, "complex_step") + f"; {sum(v['laws'][k]['complex_step_unexplained'] for k in SIX)} cases unexplained",
+           show=lambda v: _per_law(v, "complex_step") + f"; {sum(v['laws'][k]['complex_step_unexplained'] for k in KNKT)} cases unexplained",
            tolerance=VERIFY_TOLERANCE, check=_check_verify,
            verdict=lambda v: _exact_verdict(v, "complex_step", "complex_step_unexplained"),
            job="kernels.verify",
            texts={"table": lambda v: f"\n\n{verify_table(v)}\n\n",
                   "capped_table": lambda v: f"\n\n{capped_table(v)}\n\n",
                   "exact_max": lambda v: f"{_exact_max(v):.1e}",
-                  "central_clean": lambda v: _and([k for k in SIX
+                  "central_clean": lambda v: _and([k for k in KNKT
                                                    if v["laws"][k]["central_above"] == 0]),
-                  "central_corners": lambda v: _and([k for k in SIX
+                  "central_corners": lambda v: _and([k for k in KNKT
                                                      if v["laws"][k]["central_above"] > 0])}),
     _claim("verify_mp50",
-           "generated K vs 50-digit central differences, the six laws, 2,000 cases each",
+           "generated K vs 50-digit central differences, the eight laws, 2,000 cases each",
            "minutes", VERIFY_COMMAND, verify_run,
-           show=lambda v: _per_law(v, "mp50") + f"; {sum(v['laws'][k]['mp50_unexplained'] for k in SIX)} cases unexplained",
+           show=lambda v: _per_law(v, "mp50") + f"; {sum(v['laws'][k]['mp50_unexplained'] for k in KNKT)} cases unexplained",
            tolerance=VERIFY_TOLERANCE, check=_check_verify,
            verdict=lambda v: _exact_verdict(v, "mp50", "mp50_unexplained"),
            job="kernels.verify"),
     _claim("verify_central",
-           "generated K vs float64 central differences at the best step, the six laws, "
+           "generated K vs float64 central differences at the best step, the eight laws, "
            "2,000 cases each: largest error; cases above 1e-6",
            "minutes", VERIFY_COMMAND, verify_run,
            show=lambda v: ", ".join(f"{k} {v['laws'][k]['central']:.1e} "
-                                    f"({v['laws'][k]['central_above']} above 1e-6)" for k in SIX)
-           + f"; {sum(v['laws'][k]['central_unexplained'] for k in SIX)} unexplained",
+                                    f"({v['laws'][k]['central_above']} above 1e-6)" for k in KNKT)
+           + f"; {sum(v['laws'][k]['central_unexplained'] for k in KNKT)} unexplained",
            tolerance=VERIFY_TOLERANCE, check=_check_verify,
            verdict=lambda v: Verdict(
-               "meets" if sum(v["laws"][k]["central_unexplained"] for k in SIX) == 0 else "fails",
-               f"{sum(v['laws'][k]['central_unexplained'] for k in SIX)} cases above max(1e-6, "
+               "meets" if sum(v["laws"][k]["central_unexplained"] for k in KNKT) == 0 else "fails",
+               f"{sum(v['laws'][k]['central_unexplained'] for k in KNKT)} cases above max(1e-6, "
                "10x the error model's floor) (tiny overlap with t* << delta, first order at "
                "t = 0 and |t| = t*, cancellation)"),
            job="kernels.verify"),
@@ -534,10 +535,10 @@ CLAIMS = [
            "slope (2,000 cases; Lee & Hurley per regime)",
            "minutes", VERIFY_COMMAND, verify_run,
            show=lambda v: f"{_taylor_min(v):.3f}; "
-           f"{sum(v['laws'][k]['taylor_failed'] for k in SIX)} cases failed",
+           f"{sum(v['laws'][k]['taylor_failed'] for k in KNKT)} cases failed",
            tolerance=VERIFY_TOLERANCE, check=_check_verify,
            verdict=lambda v: floor_verdict(
-               _taylor_min(v) if sum(v["laws"][k]["taylor_failed"] for k in SIX) == 0 else 0.0,
+               _taylor_min(v) if sum(v["laws"][k]["taylor_failed"] for k in KNKT) == 0 else 0.0,
                1.9, "smallest slope (an error in K gives 1)"),
            job="kernels.verify"),
     _claim("verify_nonfinite",
