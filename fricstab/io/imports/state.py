@@ -30,7 +30,7 @@ import numpy as np
 
 from fricstab.errors import ParameterError
 
-__all__ = ["FileFormatError", "ImportedState"]
+__all__ = ["FileFormatError", "ImportedState", "contact_where"]
 
 
 class FileFormatError(ParameterError):
@@ -182,3 +182,11 @@ class ImportedState:
         for name in ("history", "force_n", "force_t"):
             self._array(name, (k, 2), float, cl)
         self._array("torque", (k,), float, cl)
+
+
+def contact_where(imported, c):
+    """Where contact ``c`` of ``imported`` was read: ``path:line``, or the first source."""
+    lines = imported.contact_lines
+    if lines is not None and 0 <= c < len(lines):
+        return f"{lines[c][0]}:{lines[c][1]}"
+    return f"{imported.sources[0][0] if imported.sources else '<imported state>'} contact {c}"
