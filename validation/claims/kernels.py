@@ -479,10 +479,13 @@ CLAIMS = [
            check=lambda a, b: (same(keys=["unexplained"])(a, b)[0] and all(
                b["worst"][k] <= 10 * max(a["worst"][k], 1e-16) for k in a["worst"]),
                "worst errors within 10x"),
-           verdict=lambda v: bound_verdict(max(v["worst"].values()) if v["unexplained"] == 0
-                                           else float("inf"), 1e-12,
-                                           "worst row-relative error (bound max(1e-12, 64 eps x "
-                                           "cancellation))")),
+           # each case against its own bound max(1e-12, 64 eps x cancellation), as `fricstab
+           # verify` judges: a literal maximum above 1e-12 is a cancellation-explained case
+           # (linear at kt/kn ~ 1e-10), not a failure
+           verdict=lambda v: Verdict(
+               "meets" if v["unexplained"] == 0 else "fails",
+               f"{v['unexplained']} cases beyond max(1e-12, 64 eps x cancellation); largest "
+               f"literal error {max(v['worst'].values()):.1e}")),
     _claim("lee_hurley_quick",
            "lee_hurley and its wall form vs complex step, 40 seeded cases per regime",
            "seconds", "python validation/reproduce.py --claim kernels.lee_hurley_quick",
