@@ -40,9 +40,11 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))        # the claims registry (validation/claims)
 
 import numpy as np  # noqa: E402
 
+from claims.core import half_unit, sigma_distance  # noqa: E402
 from fricstab.analysis.spectrum import complex_pairs  # noqa: E402
 from fricstab.protocols.ramp import ramped_equilibrium, run_ramp  # noqa: E402
 from fricstab.protocols.waves import fit_waves, run_realization  # noqa: E402
@@ -66,17 +68,9 @@ PAPER_OMEGA, PAPER_V2 = "0.235", "0.075"
 K = 2.0   # agreement: within K combined standard errors
 
 
-def half_unit(printed):
-    """Half a unit of the last printed digit ('0.00024' -> 5e-6)."""
-    decimals = len(printed.split(".")[1]) if "." in printed else 0
-    return 0.5 * 10.0 ** -decimals
-
-
 def sigma(ours, ours_err, paper, paper_err):
-    s = math.hypot(ours_err, paper_err)
-    if not math.isfinite(ours):
-        return math.inf
-    return abs(ours - paper) / s if s > 0 else (0.0 if ours == paper else math.inf)
+    """Combined-sigma distance (claims.core); no value of ours (no breach) is infinitely far."""
+    return sigma_distance(ours, ours_err, paper, paper_err) if math.isfinite(ours) else math.inf
 
 
 def paper_ratio_from_printed():
@@ -309,7 +303,8 @@ def report(values, seconds):
         cells = []
         for n in names:
             r = values["readings"][n]["rows"][i]
-            cells.append(f"{r['ours']}; {r['distance']} ({'agrees' if r['agrees'] else 'disagrees'})")
+            word = "agrees" if r["agrees"] else "disagrees"
+            cells.append(f"{r['ours']}; {r['distance']} ({word})")
         lines.append(f"| {WHAT.get(row['what'], row['what'])} | " + " | ".join(cells) + " |")
     lines.append("| **agreements** | " + " | ".join(
         f"**{values['readings'][n]['agreements']} of {values['readings'][n]['compared']}**"
@@ -329,7 +324,8 @@ def report(values, seconds):
                  f"({values['realizations']} realizations), "
                  "per dynamics inertia, at 0.083 / 0.087 / 0.090: "
                  + "; ".join(f"{c} (I = {w['inertia']:g}): " + " / ".join(
-                     f"{r['breached']:.2f}" for r in w["rows"]) for c, w in values["waves"].items()))
+                     f"{r['breached']:.2f}" for r in w["rows"])
+                     for c, w in values["waves"].items()))
     return "\n".join(lines) + "\n"
 
 

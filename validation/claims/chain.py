@@ -15,8 +15,8 @@ functions write their reports, whose hashes the records keep.
 
 import math
 
-from .core import (Claim, Result, Verdict, bound_verdict, exact_verdict, floor_verdict, same,
-                   sigma_distance, sigma_verdict, within_sigma)
+from .core import (Claim, Result, Verdict, bound_verdict, exact_verdict, floor_verdict,
+                   half_unit, same, sigma_distance, sigma_verdict, within_sigma)
 
 HEADING = 'Chain of disks on a substrate (Charan et al.)'
 INTRO = ("Charan's chain as `ChainScene()` builds it: N = 10 disks, R = 0.5 (2R = 1), m = 1, "
@@ -58,14 +58,6 @@ def _script(name):
     if path not in sys.path:
         sys.path.insert(0, path)
     return importlib.import_module(name)
-
-
-def _half_unit(printed):
-    """Half a unit of the last digit of a number as printed ('0.00024' -> 5e-6)."""
-    s = printed.lower().split("e")[0]
-    decimals = len(s.split(".")[1]) if "." in s else 0
-    exp = int(printed.lower().split("e")[1]) if "e" in printed.lower() else 0
-    return 0.5 * 10.0 ** (exp - decimals)
 
 
 def _yes(flags):
@@ -134,7 +126,7 @@ def _show_events(v):
 
 
 def _sigma_items_im(v):
-    return [(ours, 0.0, float(p), _half_unit(p)) for ours, p in
+    return [(ours, 0.0, float(p), half_unit(p)) for ours, p in
             zip(v["im_lambda"], ("0.00024", "0.00077", "0.001"))]
 
 
@@ -476,7 +468,7 @@ CLAIMS = [
           tolerance="1e-10 absolute: an eigenvalue of a Newton equilibrium (round-off)",
           check=same(abs=1e-10, keys=["omega"]),
           paper="omega ~ 0.235",
-          verdict=lambda v: sigma_verdict([(v["omega"], 0.0, 0.235, _half_unit("0.235"))]),
+          verdict=lambda v: sigma_verdict([(v["omega"], 0.0, 0.235, half_unit("0.235"))]),
           job="chain.rest",
           texts={"short": lambda v: f"{v['omega']:.5f} at F_x = 0; paper 0.235",
                  "doc": lambda v: f"{v['omega']:.5f}"}),
@@ -516,8 +508,8 @@ CLAIMS = [
           check=same(rel=1e-8, abs=1e-10, keys=["rows"]),
           paper="omega ~ 0.235, 'a wavelength of approximately 2', V2 ~ 0.235 / pi ~ 0.075",
           verdict=lambda v: sigma_verdict([
-              (_band(v, 0.0)["band_omega2"], 0.0, 0.235, _half_unit("0.235")),
-              (_band(v, 0.0)["band_v2"], 0.0, 0.075, _half_unit("0.075"))]),
+              (_band(v, 0.0)["band_omega2"], 0.0, 0.235, half_unit("0.235")),
+              (_band(v, 0.0)["band_v2"], 0.0, 0.075, half_unit("0.075"))]),
           job="chain.transverse_band",
           texts={"doc": lambda v: f"omega = {_band(v, 0.0)['band_omega2']:.5f}, V2 = "
                  f"{_band(v, 0.0)['band_v2']:.4f}"}),
@@ -534,7 +526,7 @@ CLAIMS = [
           check=same(rel=1e-8, abs=1e-10, keys=["rows"]),
           paper="V2 ~ 0.075, 'independent of F_x'",
           verdict=lambda v: sigma_verdict([(_band(v, f)["band_v2"], 0.0, 0.075,
-                                            _half_unit("0.075")) for f in PROBES]),
+                                            half_unit("0.075")) for f in PROBES]),
           job="chain.transverse_band",
           texts={"doc": lambda v: ", ".join(f"{_band(v, f)['band_v2']:.3f}" for f in PROBES)}),
     Claim("chain.ishima_first_birth", "chain",
@@ -589,7 +581,7 @@ CLAIMS = [
           tolerance="3 combined bootstrap errors (chaotic)",
           check=within_sigma(3, _wave_pairs(["v2"])),
           paper="V2 ~ 0.235 / pi ~ 0.075, independent of F_x",
-          verdict=lambda v: sigma_verdict([(r["v2"], _v2_err(r), 0.075, _half_unit("0.075"))
+          verdict=lambda v: sigma_verdict([(r["v2"], _v2_err(r), 0.075, half_unit("0.075"))
                                            for r in v["rows"]]),
           job="chain.waves",
           texts={"doc": lambda v: (
@@ -615,7 +607,7 @@ CLAIMS = [
           check=within_sigma(3, [("slope", "slope_err")]),
           paper="V = -1.3e-3 + 4.5e-4 F_x (negative at these F_x as printed)",
           verdict=lambda v: sigma_verdict([(v["slope"], v["slope_err"], 4.5e-4,
-                                            _half_unit("4.5e-4"))]),
+                                            half_unit("4.5e-4"))]),
           job="chain.waves",
           texts={"doc": lambda v: f"{v['intercept']:.1e} + {v['slope']:.2e} F_x (+- "
                                   f"{v['slope_err']:.1e} on the slope)"}),

@@ -164,6 +164,15 @@ def within_sigma(k, pairs):
 
 # ------------------------------------------------------------ verdicts against the paper
 
+def half_unit(printed):
+    """Half a unit of the last digit of a number as printed ('0.00024' -> 5e-6): the
+    standard error given to a value a paper prints without one."""
+    s = printed.lower().split("e")[0]
+    decimals = len(s.split(".")[1]) if "." in s else 0
+    exp = int(printed.lower().split("e")[1]) if "e" in printed.lower() else 0
+    return 0.5 * 10.0 ** (exp - decimals)
+
+
 def sigma_distance(ours, ours_err, paper, paper_err):
     """|ours - paper| in combined standard errors."""
     s = math.hypot(ours_err, paper_err)

@@ -85,9 +85,6 @@ class Report:
                     sources=[list(map(str, s)) for s in self.sources], notes=self.notes)
 
 
-_where = contact_where
-
-
 def _scales(imported, units):
     units = {} if units is None else dict(units)
     unknown = set(units) - {"length", "mass", "force"}
@@ -232,7 +229,8 @@ def _refuse_hertz(imported, ft, fn_file, sc):
     bad = np.flatnonzero(mag > ROUND_OFF * np.maximum(ref, 1e-300))
     if bad.size:
         c = int(bad[0])
-        raise ParameterError(f"{_where(imported, c)}: contact {imported.ids[imported.ci[c]]}-"
+        raise ParameterError(f"{contact_where(imported, c)}: contact "
+                             f"{imported.ids[imported.ci[c]]}-"
                              f"{imported.ids[imported.cj[c]]} has a tangential force "
                              f"|F_t| = {mag[c]:.6g}, but law hertz is frictionless (no "
                              "history can carry it): choose a law with friction")
@@ -322,11 +320,11 @@ def _contacts(imported, system, state, sc, report):
     if len(np.unique(keys[keep])) != keep.sum():
         dup = np.flatnonzero(keep)[np.unique(keys[keep], return_index=True)[1]]
         c = int(np.setdiff1d(np.flatnonzero(keep), dup)[0])
-        raise ParameterError(f"{_where(imported, c)}: contact {imported.ids[ci[c]]}-"
+        raise ParameterError(f"{contact_where(imported, c)}: contact {imported.ids[ci[c]]}-"
                              f"{imported.ids[cj[c]]} is listed twice")
     report.order = np.where(keep, rows, -1)
     report.swapped = swapped
-    report.dropped = [{"contact": int(c), "where": _where(imported, int(c)),
+    report.dropped = [{"contact": int(c), "where": contact_where(imported, int(c)),
                        "why": "both fixed" if both_fixed[c] else
                        f"apart (gap {-delta[c]:.6g})"} for c in np.flatnonzero(~keep)]
     from fricstab.engine.newton import touching
@@ -372,7 +370,7 @@ def _histories(imported, system, state, sc, report, rows, keep, sep, dist, delta
     else:
         report.notes.append("the file has no tangential state: every history is zero")
         return None
-    report.flagged = [{"contact": int(c), "where": _where(imported, int(c)),
+    report.flagged = [{"contact": int(c), "where": contact_where(imported, int(c)),
                        "cap": ["tangential", "rolling", "both"][int(flags[c]) - 1]}
                       for c in np.flatnonzero(keep & (flags > 0))]
     return hist
