@@ -47,7 +47,8 @@ UNIFORM = ("_eval", "_rate", "_project", "_advance")
 #: A rescaled vector history lies on the Coulomb circle to rounding: the
 #: recomputed |t| is t* to within ~5 eps (one square root and one division
 #: in the scale, two products, then the norm again).  |t| >= t* (1 - 8 eps)
-#: counts as on the circle (flag bit 1), so a projected history keeps its flag.
+#: counts as on the circle (flag bit 1), so a projected history keeps its flag; a
+#: scalar history (a wall) uses the same threshold, as its force kernel does.
 ON_CIRCLE = repr(1.0 - 8.0 * 2.0 ** -52)
 
 
@@ -250,7 +251,7 @@ def family_project(law):
                  "if abs(t) >= tstar:  # on the cap to the bit: +-t* exactly",
                  "    h[0] = tstar if t > 0.0 else -tstar",
                  "    return 1",
-                 "return 0"]
+                 f"return 1 if abs(t) >= tstar * {ON_CIRCLE} else 0"]
     else:
         body += ["tx = h[0]",
                  "ty = h[1]",
@@ -289,6 +290,7 @@ def family_advance(law, force_body):
                  "    t = tstar if t > 0.0 else -tstar",
                  "    h[0] = t",
                  "    tn = tstar",
+                 f"if tn >= tstar * {ON_CIRCLE}:",
                  "    flags = 1"]
         flags = "flags"
     elif law.coulomb:

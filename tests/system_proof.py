@@ -24,7 +24,6 @@ differentiates it:
 generated ``<law>_rate``, itself verified against hand-written rules).
 """
 
-import math
 
 import numpy as np
 
@@ -138,39 +137,15 @@ def _on_engine_branch(system, state):
     system.project(s)
     flag = s.contacts.flag.astype(int)
     if system.material.law == "linear":
-        # the Jacobian kernel slides at |t| >= t* (1 - 8 eps) (symbolic/linear.py), while
-        # project flags only |t| >= t*: in between (found by hypothesis: a wall history
-        # 1 - 1e-16 of t* at an overlap 5e-13 R) the flag says stick and the block slides
-        slide = ((flag & 1) != 0) | _linear_on_circle(system, state)
+        # project flags |t| >= t* (1 - 8 eps), where the kernels slide (symbolic/uniform.py
+        # ON_CIRCLE; a wall history 1 - 1e-16 of t* at an overlap 5e-13 R, found by
+        # hypothesis, slides): the vector history moves as a whole
+        slide = (flag & 1) != 0
         return hist * np.where(slide, 1.0 + BRANCH_NUDGE, 1.0 - BRANCH_NUDGE)[:, None]
     for b, bit in enumerate((1, 2)):
         slide = (flag & bit) != 0
         hist[:, b] *= np.where(slide, 1.0 + BRANCH_NUDGE, 1.0 - BRANCH_NUDGE)
     return hist
-
-
-def _linear_on_circle(system, state):
-    """Contacts of the ``linear`` law whose history the kernels' slide test puts on the
-    circle: ``|t| >= t* (1 - 8 eps)``, t* = mu kn / kt delta, delta as the kernels take it."""
-    from fricstab._numerics import overlap_correction
-    c, q = state.contacts, state.q
-    kn, kt, mu = (dict(zip(get_law("linear").params, system._p))[k] for k in ("kn", "kt", "mu"))
-    out = np.zeros(c.n, bool)
-    for k in range(c.n):
-        i, j = int(c.i[k]), int(c.j[k])
-        if j >= 0:
-            dx = ((q[i, 0] - q[j, 0]) - c.k[k] * state.shift) - c.m[k] * system.lx
-            dy = (q[i, 1] - q[j, 1]) - c.k[k] * system.ly
-            ri, rj = system.radius[i], system.radius[j]
-            delta = ri + rj - math.sqrt(dx * dx + dy * dy)
-            delta += overlap_correction(dx, dy, ri, rj, delta)
-            tn = math.hypot(c.hist[k, 0], c.hist[k, 1])
-        else:
-            y0, d = system.walls[-1 - j]
-            delta = system.radius[i] - (q[i, 1] - y0) * d
-            tn = abs(c.hist[k, 0])
-        out[k] = delta > 0 and tn >= mu * kn / kt * delta * (1.0 - 8 * np.finfo(float).eps)
-    return out
 
 
 def complex_step_jacobian(system, state, scale, free_only=True):

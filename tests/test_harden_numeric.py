@@ -45,6 +45,9 @@ BASE = {
     "shear jacobian": ["--n", "16"],
     "shear analyze": [],
     "shear export": [],
+    "import": [str(ROOT / "docs" / "examples" / "import" / "csv" / "packing.csv"), "--law",
+               "ishima", "--param", "kn=1", "--param", "kt=1", "--units",
+               "length=0.4,force=100,mass=20"],
 }
 
 

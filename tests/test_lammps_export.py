@@ -21,7 +21,7 @@ from tests.lammps_util import load_lammps, sheared_state
 
 EPS = np.finfo(float).eps
 GAMMA = 2e-3        # affine shear: net forces of ~1e-3 k_N d^(3/2)
-EXPONENT = {"ishima": 1.5, "hertz": 1.5, "linear": 1.0}   # F ~ delta^p
+EXPONENT = {"ishima": 1.5, "hertz": 1.5, "linear": 1.0, "charan": 1.5}   # F ~ delta^p
 
 
 @pytest.fixture(scope="module")
@@ -84,11 +84,14 @@ def _dump_forces(path, n):
 
 
 @pytest.mark.parametrize("lees_edwards", [False, True], ids=["plain", "lees_edwards"])
-@pytest.mark.parametrize("law", ["ishima", "linear", "hertz"])
+@pytest.mark.parametrize("law", ["ishima", "linear", "hertz", "charan"])
 def test_lammps_step0_forces_equal_ours(packing, law, lees_edwards, tmp_path, monkeypatch):
+    """charan goes out as the closest style (approximate=True): at zero history its forces
+    are Hertz's, so step 0 agrees as for the exact laws."""
     lammps = load_lammps()
     system, state = _case(packing, law, lees_edwards)
-    info = write_lammps(tmp_path, system, state, dt=0.01)
+    info = write_lammps(tmp_path, system, state, dt=0.01, approximate=law == "charan")
+    assert info["approximate"] == (law == "charan")
     assert info["history_contacts"] == 0
     assert (info["tilt"] != 0.0) == lees_edwards and abs(info["tilt"]) <= packing.box / 2
     f, torque, mass = _run_deck(lammps, tmp_path, monkeypatch)
@@ -126,12 +129,30 @@ def test_history_is_dropped_and_said(packing, tmp_path, monkeypatch):
     assert np.abs(system.forces(state) - system.forces(bare)).max() > 1e3 * tol.max()
 
 
-@pytest.mark.parametrize("law, closest", [("charan", "mindlin"), ("lee_hurley", "cylinder")])
-def test_laws_without_lammps_form_are_refused(packing, law, closest, tmp_path):
+@pytest.mark.parametrize("law, closest, approximate",
+                         [("charan", "approximate=True", False), ("lee_hurley", "cylinder", False),
+                          ("lee_hurley", "cylinder", True)])
+def test_laws_without_lammps_form_are_refused(packing, law, closest, approximate, tmp_path):
     system, state = _case(packing, law, False)
     with pytest.raises(ParameterError, match=closest) as err:
-        write_lammps(tmp_path, system, state)
+        write_lammps(tmp_path, system, state, approximate=approximate)
     assert "\n" not in str(err.value) and not (tmp_path / "in.lmp").exists()
+
+
+def test_charan_approximate_says_how_it_differs(packing, tmp_path):
+    """approximate=True: gran/hertz/history with charan's kn, kt and xmu = mu per pair of
+    radii, and the deck and README say it is the closest style, not the law."""
+    system, state = _case(packing, "charan", True)
+    info = write_lammps(tmp_path, system, state, approximate=True)
+    assert info["pair_style"] == "gran/hertz/history" and info["approximate"]
+    p = system.material.params
+    deck = (tmp_path / "in.lmp").read_text()
+    r = np.unique(system.radius)
+    s = 1.0 / np.sqrt(r[0] * r[0] / (2 * r[0]))
+    assert (f"gran/hertz/history {p['kn'] * s:.17g} {p['kt'] * s:.17g} 0.0 0.0 "
+            f"{p['mu']:.17g} 0") in deck
+    assert "closest style, not the same law" in deck
+    assert "1 + s - s^2" in (tmp_path / "README.txt").read_text()
 
 
 def test_state_file_exports_the_same_data(packing, tmp_path):

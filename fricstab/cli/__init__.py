@@ -13,6 +13,9 @@ Subcommands
     The chain of disks of Charan et al. (:mod:`fricstab.cli.chain`).
 ``fricstab packing make|rigidity|dos ...``
     Disk packings of Ishima et al.: rigidity and DOS (:mod:`fricstab.cli.packing`).
+``fricstab import FILE... --law NAME --param KEY=VALUE ... --out DIR``
+    A packing made elsewhere (LAMMPS, LIGGGHTS, extxyz, CSV) as our state,
+    checked against the law (:mod:`fricstab.cli.imports`).
 ``fricstab shear ...``
     Plane shear of Lee & Hurley (:mod:`fricstab.cli.shear`, when installed).
 ``fricstab warmup``
@@ -215,9 +218,11 @@ def _parser():
                    nargs=2, metavar=("LO", "HI"), default=None,
                    help="R_j/R_i range (default: 1 1.4)")
     v.add_argument("--no-progress", action="store_true", help="no progress bar")
-    from fricstab.cli import chain as chain_cli, packing as packing_cli, warmup as warmup_cli
+    from fricstab.cli import chain as chain_cli, imports as import_cli, packing as packing_cli
+    from fricstab.cli import warmup as warmup_cli
     chain_cli.add_parser(sub, _Parser, _positive_float)
     packing_cli.add_parser(sub, _Parser, _positive_float)
+    import_cli.add_parser(sub, _Parser, _positive_float)
     shear = _shear_cli()
     if shear is not None:
         shear.add_parser(sub, _Parser, _positive_float)
@@ -387,6 +392,9 @@ def _dispatch(ns, argv):
         return packing_cli.run(ns, argv)
     if ns.command == "shear":
         return _shear_cli().run(ns, argv)
+    if ns.command == "import":
+        from fricstab.cli import imports as import_cli
+        return import_cli.run(ns, argv)
     return _cmd_verify(ns) if ns.command == "verify" else ns.run(ns, _main)   # warmup
 
 

@@ -52,6 +52,20 @@ refused for them).  Each run has a folder ``kt_<value>`` (a scan) or
     ``jacobian.npz`` (``K = dF/dq`` in the law's own coordinates),
     ``dofs.json``, ``mass.npy``; and ``jacobian.json`` (the record).
 
+``fricstab packing jacobian|rigidity|dos|aqs --state DIR_OR_NPZ [--f-tol F] --out DIR``
+    The same analyses of a written state (``state.npz`` of ``fricstab
+    import``, ``packing jacobian``, an AQS event; or its directory), checked
+    against the record beside it (``import.json`` or ``jacobian.json``; a
+    changed file is refused, exit 2; none: a one-line warning).  The law, its
+    parameters, the box and its Lees-Edwards offset, walls and fixed particles
+    come from the file, in its units (``--packing``, make options, ``--kt``,
+    ``--law``, ``--param``, ``--scene`` are refused); rattlers (``--z-th``) are
+    removed from it; ``--f-tol`` defaults to 1e-12 x its mean contact force.
+    ``rigidity`` and ``aqs`` need a periodic box without walls or fixed
+    particles; ``jacobian`` also records the spectrum of ``M^-1 K``, its complex
+    pairs and the largest growth rate.  Records name the state under
+    ``"state"`` instead of ``"packing"`` (:mod:`fricstab.cli.packing_state`).
+
 Common options: ``--z-th`` (rattlers: Z <= z_th, removed iteratively;
 default 2), ``--route auto|symmetric|dense``, ``--scene FILE.toml`` (keys at
 the top level or under ``[packing]``: ``fricstab scene show packing``; the
@@ -136,6 +150,12 @@ def _packing_option(c):
                         "checked against its record, instead of making one; without it the "
                         "packing of --out is reused if made with the same make options, "
                         "else one is made (a different one there needs --force)")
+    c.add_argument("--state", type=Path, default=None, metavar="DIR_OR_NPZ",
+                   help="analyse this written state (a directory with state.npz, e.g. of "
+                        "fricstab import, or the .npz), checked against its record; the law, "
+                        "its parameters and the box come from it (--packing, make options, "
+                        "--kt, --law, --param, --scene refused); --f-tol defaults to 1e-12 "
+                        "x its mean contact force")
 
 
 def add_parser(sub, parser_class, positive_float):
@@ -234,6 +254,9 @@ def run(ns, argv=None):
     """Run ``fricstab packing ...``; ``argv`` (the command's arguments) goes into the JSON."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
+        if getattr(ns, "state", None) is not None:
+            from fricstab.cli.packing_state import run as run_state
+            return run_state(ns, argv)
         if ns.packing_command == "make":
             from fricstab.cli.packing_make import make
             return make(ns, argv)

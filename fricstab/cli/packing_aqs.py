@@ -30,7 +30,7 @@ from fricstab.cli.packing_common import (MAKE_KEYS, UNITS, UNITS_NOTE, dry_run, 
                                          show_progress, summary)
 from fricstab.errors import ParameterError
 
-__all__ = ["add_parser", "aqs"]
+__all__ = ["add_parser", "aqs", "path_options", "shear"]
 
 DEFAULT_CHECKPOINT_EVERY = 50
 DEFAULT_WINDOW_STEPS = 10
@@ -136,15 +136,9 @@ def _check_resumable(out, ck, last, n_steps):
                                      "rerun with --force")
 
 
-def aqs(ns, argv):
-    """``fricstab packing aqs``: aqs.json, aqs.png, events/birth_<k>_{lo,hi}/."""
-    from fricstab import progress
-    from fricstab.analysis.aqs import compare, detect_drops
-    from fricstab.io.checkpoint import Checkpointer
-    from fricstab.io.jacobian_export import write_state_jacobian
-    from fricstab.protocols.aqs import ZERO_CLUSTER, check_strain, check_tol, run_aqs
-    from fricstab.scenes.packing_friction import backbone, frictional
-
+def path_options(ns):
+    """Check --strain, --dgamma, --tol, --drop-threshold, --window, --checkpoint-every; window."""
+    from fricstab.protocols.aqs import check_strain, check_tol
     check_strain(ns.strain, ns.dgamma)
     for name in ("tol", "drop_threshold"):
         v = getattr(ns, name)
@@ -157,6 +151,16 @@ def aqs(ns, argv):
         raise ParameterError(f"--window must be a finite number > 0, got {window!r}")
     if ns.checkpoint_every < 1:
         raise ParameterError(f"--checkpoint-every must be >= 1, got {ns.checkpoint_every}")
+    return window
+
+
+def aqs(ns, argv):
+    """``fricstab packing aqs``: aqs.json, aqs.png, events/birth_<k>_{lo,hi}/."""
+    from fricstab import progress
+    from fricstab.io.checkpoint import Checkpointer
+    from fricstab.scenes.packing_friction import backbone, frictional
+
+    window = path_options(ns)
     params = resolve(ns, MAKE_KEYS + ("z_th",))
     if params["kt_scan"] is not None:
         raise ParameterError("aqs runs one law: give kt with --param kt=..., not a scan")
@@ -182,11 +186,32 @@ def aqs(ns, argv):
     bb = backbone(packing, z_th=params["z_th"])
     with rd.stage("friction"), progress.heartbeat("friction", show_progress(ns)):
         fr = frictional(bb, run.material, f_tol=params["f_tol"])
-    system = fr.system
-    rd.checkpoints()
-    rd.register("events", folder=True)
     extra = {"scene": "packing (Ishima et al.): the rattler-free backbone, sheared (AQS)",
              "backbone": {"n_total": packing.n, "n_backbone": bb.n, "z_th": params["z_th"]}}
+    doc = {"packing": source.record(), **summary(packing, bb), "law": run.material.law,
+           "law_params": dict(run.material.params), "dof_per_particle": fr.system.dof,
+           "friction": friction_record(fr)}
+    if source.origin != "read":
+        doc["make"] = {k: params[k] for k in MAKE_KEYS}
+    head = f"packing N = {packing.n} (backbone {bb.n}), law {run.material.law}"
+    return shear(ns, rd, fr.system, fr.state, params["f_tol"], window, (ck, last), extra, doc,
+                 ({**public(params), **fp}, packing.seed, argv), head)
+
+
+def shear(ns, rd, system, state, f_tol, window, resume, extra, doc, finish, head):
+    """The path from ``state`` (run_aqs), event folders, aqs.json (``doc`` first), aqs.png.
+
+    ``resume``: ``(Checkpointer, its latest checkpoint or None)``; ``finish``:
+    ``(parameters, seed, argv)`` of the record.
+    """
+    from fricstab import progress
+    from fricstab.analysis.aqs import compare, detect_drops
+    from fricstab.io.jacobian_export import write_state_jacobian
+    from fricstab.protocols.aqs import ZERO_CLUSTER, run_aqs
+    ck, last = resume
+    n_steps = int(np.floor(ns.strain / ns.dgamma + 1e-9))
+    rd.checkpoints()
+    rd.register("events", folder=True)
 
     def on_birth(k, ev, s_lo, s_hi):
         for end, s, g in (("lo", s_lo, ev.gamma_lo), ("hi", s_hi, ev.gamma_hi)):
@@ -197,7 +222,7 @@ def aqs(ns, argv):
     done = 0 if last is None else int(last["step"])
     with rd.stage("aqs"), progress.bar(total=n_steps, initial=done, desc="aqs", unit="step",
                                        enabled=show_progress(ns)) as bar:
-        res = run_aqs(system, fr.state, ns.strain, ns.dgamma, f_tol=params["f_tol"],
+        res = run_aqs(system, state, ns.strain, ns.dgamma, f_tol=f_tol,
                       tol=ns.tol, progress=bar, resume=last,
                       checkpoint=lambda k, arrays: ck.save(k, **arrays),
                       checkpoint_every=ns.checkpoint_every, on_birth=on_birth)
@@ -219,9 +244,7 @@ def aqs(ns, argv):
             k = birth_number[id(e)]
             rec["directories"] = [f"events/birth_{k}_lo", f"events/birth_{k}_hi"]
         events.append(rec)
-    doc = {"packing": source.record(), **summary(packing, bb), "law": run.material.law,
-           "law_params": dict(run.material.params), "dof_per_particle": system.dof,
-           "friction": friction_record(fr), "strain_max": ns.strain, "dgamma": ns.dgamma,
+    doc = {**doc, "strain_max": ns.strain, "dgamma": ns.dgamma,
            "tol": ns.tol, "drop_threshold": ns.drop_threshold, "window": window,
            "pair_rule": "conjugate pairs of eig(B^T diag(mass)^-1 K B), B an orthonormal "
                         "basis of {x: sum_i m_i x_i = 0 in x and y}, with |lambda| > "
@@ -233,14 +256,13 @@ def aqs(ns, argv):
            "births": len(births), "births_located": len(located),
            "max_bracket": max((e.gamma_hi - e.gamma_lo for e in located), default=None),
            "precursors": stats, "resumed_from_step": None if last is None else done,
-           "units": UNITS_NOTE}
-    if source.origin != "read":
-        doc["make"] = {k: params[k] for k in MAKE_KEYS}
+           "units": doc.get("units", UNITS_NOTE)}
     from fricstab.figures.aqs import aqs_figure
     rd.write_png("aqs.png", lambda tmp: aqs_figure(res, drops, tmp))
-    rd.finish(doc, parameters={**public(params), **fp}, seed=packing.seed, argv=argv)
+    parameters, seed, argv = finish
+    rd.finish(doc, parameters=parameters, seed=seed, argv=argv)
     ck.clear()
-    print(f"packing N = {packing.n} (backbone {bb.n}), law {run.material.law}: "
+    print(f"{head}: "
           f"{n_steps} steps of {ns.dgamma:g} to strain {res.strain[-1]:.6g}, "
           f"{len(drops)} drops, {len(births)} births ({len(located)} located), "
           f"{sum(e.kind == 'death' for e in res.events)} deaths; "

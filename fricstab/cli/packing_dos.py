@@ -16,28 +16,33 @@ from fricstab.cli.packing_common import (MAKE_KEYS, UNITS_NOTE, dry_run, frictio
 from fricstab.cli.packing_source import open_run
 from fricstab.laws import ParameterError
 
-__all__ = ["dos"]
+__all__ = ["conclude", "dos", "spectrum_of"]
 
 
 def _spectrum(bb, run, route, f_tol):
-    from fricstab.analysis import dos as dosmod
     from fricstab.analysis.rigidity import linear_response
     from fricstab.scenes.packing_friction import frictional
 
     fr = frictional(bb, run.material, f_tol=f_tol)
     jac = linear_response(fr.system, fr.state).jacobian
+    return spectrum_of(run, jac, route, friction_record(fr))
+
+
+def spectrum_of(run, jac, route, friction, n_drop=2):
+    """The spectrum of one run's J (Ishima's convention), ``n_drop`` translations dropped."""
+    from fricstab.analysis import dos as dosmod
     sp = dosmod.spectrum(jac, route=route, vectors=True)
     w = sp.eigenvalues
     order = np.argsort(np.abs(w), kind="stable")
-    dropped = np.sort(order[:2])
-    keep = np.sort(order[2:])   # ascending real part, as spectrum() returns them
+    dropped = np.sort(order[:n_drop])
+    keep = np.sort(order[n_drop:])   # ascending real part, as spectrum() returns them
     psi_t, psi_r, p = dosmod.participation(sp.right[:, keep], run.dof)
     omega = np.sqrt(np.clip(w[keep].real, 0.0, None))
     scale = np.abs(w).max()
     return {"run": run, "kt": run.kt, "label": run.label(), "k": run.dof, "sp": sp,
             "eig": w[keep], "omega": omega, "psi_t": psi_t, "psi_r": psi_r, "p": p,
             "dropped": w[dropped], "negative": int(np.sum(w[keep].real < -1e-12 * scale)),
-            "friction": friction_record(fr)}
+            "friction": friction}
 
 
 #: Why an entry of a dos.json result is null (``<key>_note``).
@@ -84,9 +89,6 @@ def _entry(i, s, edges):
 def dos(ns, argv):
     """``fricstab packing dos``: dos.json, dos.npz, dos.png."""
     from fricstab import progress
-    from fricstab.analysis import dos as dosmod
-    from fricstab.figures.packing import dos_figure
-
     from fricstab.scenes.packing_friction import backbone
 
     params = resolve(ns, MAKE_KEYS + ("z_th", "route", "bins"))
@@ -108,6 +110,18 @@ def dos(ns, argv):
         for run in bar:
             bar.set_postfix_str(run.name)
             spectra.append(_spectrum(bb, run, params["route"], params["f_tol"]))
+    doc = {"packing": source.record(), **summary(packing, bb)}
+    if source.origin != "read":
+        doc["make"] = {k: params[k] for k in MAKE_KEYS}
+    head = f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, law"
+    return conclude(rd, doc, spectra, runs, packing.n, params,
+                    {**public(params), "kt": [r.kt for r in runs]}, packing.seed, argv, head)
+
+
+def conclude(rd, doc, spectra, runs, n_total, params, parameters, seed, argv, head):
+    """The DOS on common bins: dos.npz, dos.png, the record (``doc`` first), the table."""
+    from fricstab.analysis import dos as dosmod
+    from fricstab.figures.packing import dos_figure
     positive = np.concatenate([s["omega"][s["omega"] > 0] for s in spectra])
     if positive.size == 0:
         raise ParameterError("the backbone has no mode with omega > 0: no DOS to bin")
@@ -116,7 +130,7 @@ def dos(ns, argv):
     kts = np.array([np.nan if r.kt is None else r.kt for r in runs])
     per_run, arrays = [], {"edges": edges, "kt": kts}
     for i, s in enumerate(spectra):
-        d = dosmod.dos(s["omega"], packing.n, edges)
+        d = dosmod.dos(s["omega"], n_total, edges)
         s["peak"], s["median"] = dosmod.rotational_peak(s["omega"], s["psi_r"])
         s["dos"] = d
         s["psi_t_mean"] = dosmod.binned_mean(s["omega"], s["psi_t"], edges)
@@ -126,20 +140,16 @@ def dos(ns, argv):
                        f"dos_{i}": d, f"psi_t_mean_{i}": s["psi_t_mean"],
                        f"psi_r_mean_{i}": s["psi_r_mean"]})
         per_run.append(_notes(_entry(i, s, edges)))
-    doc = {"packing": source.record(), **summary(packing, bb),
+    doc = {**doc,
            "normalization": "D(omega) = counts / (3 N width), N = all particles "
                             "(rattlers included); translations dropped",
            "kt_array": "dos.npz 'kt': kT/kN of each run, NaN for a law without kt",
            "edges": [float(edges[0]), float(edges[-1])], "results": per_run,
-           "units": UNITS_NOTE}
-    if source.origin != "read":
-        doc["make"] = {k: params[k] for k in MAKE_KEYS}
+           "units": doc.get("units", UNITS_NOTE)}
     rd.write_npz("dos.npz", **arrays)
     rd.write_png("dos.png", lambda tmp: dos_figure(spectra, edges, tmp))
-    rd.finish(doc, parameters={**public(params), "kt": [r.kt for r in runs]},
-              seed=packing.seed, argv=argv)
-    print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, law "
-          f"{params['law']}; {params['bins']} log bins in omega [{edges[0]:.3g}, "
+    rd.finish(doc, parameters=parameters, seed=seed, argv=argv)
+    print(f"{head} {params['law']}; {params['bins']} log bins in omega [{edges[0]:.3g}, "
           f"{edges[-1]:.3g}]")
     for e in per_run:
         print(f"  {e['folder']:<12s} {e['route']:9s} {e['modes']:5d} modes, "

@@ -13,7 +13,7 @@ from fricstab.cli.packing_common import (MAKE_KEYS, UNITS, UNITS_NOTE, dry_run, 
                                          resolve, save_packing, show_progress, summary)
 from fricstab.cli.packing_source import NPZ, conflicts, open_run, refuse, remove
 
-__all__ = ["jacobian", "make"]
+__all__ = ["jacobian", "make", "write_jacobian"]
 
 
 def make(ns, argv):
@@ -83,9 +83,7 @@ def make(ns, argv):
 
 def jacobian(ns, argv):
     """``fricstab packing jacobian``: state.npz, jacobian.npz, dofs.json, mass.npy, jacobian.json."""
-    from fricstab.engine import jacobian as engine_jacobian
-    from fricstab.errors import check_finite
-    from fricstab.io.jacobian_export import FILES, write_state_jacobian
+    from fricstab.io.jacobian_export import FILES
     from fricstab.scenes.packing_friction import backbone, frictional
 
     params = resolve(ns, MAKE_KEYS + ("z_th",))
@@ -106,16 +104,8 @@ def jacobian(ns, argv):
              "backbone": {"n_total": packing.n, "n_backbone": bb.n, "z_th": params["z_th"],
                           "keep": "state.npz key 'keep': packing indices of the rows"},
              "friction": friction_record(fr)}
-    with rd.stage("jacobian"):
-        f, k = engine_jacobian(system, state)   # checked before anything is written
-    check_finite("force", f.reshape(-1, system.dof), item="particle")
-    check_finite("Jacobian entry", k.data, item="entry")
-    for name in FILES:
-        rd.register(name)
-    with rd.stage("write"):
-        f, k = write_state_jacobian(rd.path, system, state, units=UNITS, extra=extra,
-                                    extra_arrays={"keep": bb.keep,
-                                                  "packing_phi": np.array(packing.phi)})
+    f, k = write_jacobian(rd, system, state, extra, {"keep": bb.keep,
+                                                     "packing_phi": np.array(packing.phi)})
     doc = {"packing": source.record(), **summary(packing, bb), "law": run.material.law,
            "law_params": dict(run.material.params), "dof_per_particle": system.dof,
            "shape": list(k.shape), "nnz": int(k.nnz),
@@ -126,3 +116,19 @@ def jacobian(ns, argv):
           f"{doc['max_force']:.1e}, K {k.shape[0]} x {k.shape[1]} ({k.nnz} nonzeros)")
     print(f"wrote {rd.path}/state.npz, jacobian.npz, dofs.json, mass.npy, jacobian.json")
     return 0
+
+
+def write_jacobian(rd, system, state, extra, extra_arrays=None, units=UNITS):
+    """state.npz, jacobian.npz, dofs.json, mass.npy into ``rd``, checked finite first; (f, K)."""
+    from fricstab.engine import jacobian as engine_jacobian
+    from fricstab.errors import check_finite
+    from fricstab.io.jacobian_export import FILES, write_state_jacobian
+    with rd.stage("jacobian"):
+        f, k = engine_jacobian(system, state)   # checked before anything is written
+    check_finite("force", f.reshape(-1, system.dof), item="particle")
+    check_finite("Jacobian entry", k.data, item="entry")
+    for name in FILES:
+        rd.register(name)
+    with rd.stage("write"):
+        return write_state_jacobian(rd.path, system, state, units=units, extra=extra,
+                                    extra_arrays=extra_arrays)

@@ -14,7 +14,7 @@ from fricstab.cli.packing_common import (MAKE_KEYS, MODES_MAX_PARTICLES, UNITS_N
                                          rel, resolve, show_progress, summary)
 from fricstab.cli.packing_source import open_run
 
-__all__ = ["TOLERANCE", "rigidity"]
+__all__ = ["TOLERANCE", "conclude", "measure", "rigidity"]
 
 TOLERANCE = 0.01             # theory vs step strain, relative to |G|
 EXIT_DISAGREE = 3
@@ -28,6 +28,7 @@ RECIPE = [
 
 
 def _save_run(rd, bb, run, r, s, g_na_modes, g_modes):
+    """The per-run folder; ``bb``: anything with ``box`` and ``n`` (a backbone, a System view)."""
     import scipy.sparse as sps
 
     def jac_npz(tmp, jac=r.jacobian):
@@ -54,9 +55,6 @@ def _save_run(rd, bb, run, r, s, g_na_modes, g_modes):
 def rigidity(ns, argv):
     """``fricstab packing rigidity``: rigidity.json, rigidity.png, one folder per run."""
     from fricstab import progress
-    from fricstab.analysis.rigidity import rigidity as linear_rigidity
-    from fricstab.figures.packing import rigidity_figure
-    from fricstab.protocols import stepstrain
     from fricstab.scenes.packing_friction import backbone, frictional
 
     params = resolve(ns, MAKE_KEYS + ("dgamma", "z_th", "route"))
@@ -83,36 +81,55 @@ def rigidity(ns, argv):
             bar.set_postfix_str(run.name)
             with rd.stage("theory"):
                 fr = frictional(bb, run.material, f_tol=params["f_tol"])
-                r = linear_rigidity(fr.system, fr.state, modes=modes, route=params["route"])
-            with rd.stage("step_strain"):
-                s = stepstrain.step_strain(fr.system, fr.state, dgamma=params["dgamma"],
-                                           f_tol=params["f_tol"])
-            g_modes = r.g_modes if modes else None
-            g_na_modes = r.g_na_modes if modes else None
-            diffs = {"solve_vs_step": rel(s.g, r.g), "modes_vs_step": rel(s.g, g_modes),
-                     "solve_vs_modes": rel(g_modes, r.g)}
-            entry = {**run.record(), "g_a": r.g_a, "g_na_solve": r.g_na_solve,
-                     "g_na_modes": g_na_modes, "g": r.g, "g_modes": g_modes, "g_step": s.g,
-                     "g_step_backward": s.g_backward, "g_step_error": s.error,
-                     "sigma0": s.sigma0, "relative_differences": diffs,
-                     "step_iterations": s.iterations, "contacts_changed": s.contacts_changed,
-                     "friction": friction_record(fr), "checks": r.checks,
-                     "seconds": {**r.seconds, "step_strain": s.seconds}}
-            _save_run(rd, bb, run, r, s, g_na_modes, g_modes)
+            entry, shapes = measure(rd, bb, run, fr.system, fr.state, modes, params,
+                                    friction_record(fr))
             results.append(entry)
-            if first is None:
-                first = (run.label(), r.u.reshape(bb.n, run.dof), s.nonaffine)
-    bad = [(e, key, v) for e in results for key, v in e["relative_differences"].items()
-           if key != "solve_vs_modes" and v is not None and v > TOLERANCE]
-    doc = {"packing": source.record(), **summary(packing, bb), "tolerance": TOLERANCE,
-           "relative_difference": "|G_theory - G_step| / |G_theory|",
-           "passed": not bad, "results": results, "units": UNITS_NOTE}
+            first = first or shapes
+    doc = {"packing": source.record(), **summary(packing, bb)}
     if source.origin != "read":
         doc["make"] = {k: params[k] for k in MAKE_KEYS}
+    head = (f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, "
+            f"L = {packing.box:.6g}")
+    return conclude(rd, doc, results, first, {**public(params), "kt": [r.kt for r in runs],
+                                              "modes": modes},
+                    packing.seed, argv, head, params)
+
+
+def measure(rd, bb, run, system, state, modes, params, friction):
+    """One run on a force-balanced state: theory, step strain, its folder; (entry, shapes)."""
+    from fricstab.analysis.rigidity import rigidity as linear_rigidity
+    from fricstab.protocols import stepstrain
+    with rd.stage("theory"):
+        r = linear_rigidity(system, state, modes=modes, route=params["route"])
+    with rd.stage("step_strain"):
+        s = stepstrain.step_strain(system, state, dgamma=params["dgamma"],
+                                   f_tol=params["f_tol"])
+    g_modes = r.g_modes if modes else None
+    g_na_modes = r.g_na_modes if modes else None
+    diffs = {"solve_vs_step": rel(s.g, r.g), "modes_vs_step": rel(s.g, g_modes),
+             "solve_vs_modes": rel(g_modes, r.g)}
+    entry = {**run.record(), "g_a": r.g_a, "g_na_solve": r.g_na_solve,
+             "g_na_modes": g_na_modes, "g": r.g, "g_modes": g_modes, "g_step": s.g,
+             "g_step_backward": s.g_backward, "g_step_error": s.error,
+             "sigma0": s.sigma0, "relative_differences": diffs,
+             "step_iterations": s.iterations, "contacts_changed": s.contacts_changed,
+             "friction": friction, "checks": r.checks,
+             "seconds": {**r.seconds, "step_strain": s.seconds}}
+    _save_run(rd, bb, run, r, s, g_na_modes, g_modes)
+    return entry, (run.label(), r.u.reshape(system.n, run.dof), s.nonaffine)
+
+
+def conclude(rd, doc, results, first, parameters, seed, argv, head, params):
+    """rigidity.png, the record (``doc`` first), the table; the exit status."""
+    from fricstab.figures.packing import rigidity_figure
+    bad = [(e, key, v) for e in results for key, v in e["relative_differences"].items()
+           if key != "solve_vs_modes" and v is not None and v > TOLERANCE]
+    doc = {**doc, "tolerance": TOLERANCE,
+           "relative_difference": "|G_theory - G_step| / |G_theory|",
+           "passed": not bad, "results": results, "units": doc.get("units", UNITS_NOTE)}
     rd.write_png("rigidity.png", lambda tmp: rigidity_figure(results, first, tmp))
-    rd.finish(doc, parameters={**public(params), "kt": [r.kt for r in runs], "modes": modes},
-              seed=packing.seed, argv=argv)
-    _print(packing, bb, params, results, rd.path)
+    rd.finish(doc, parameters=parameters, seed=seed, argv=argv)
+    _print(head, params, results, rd.path)
     if bad:
         e, key, v = max(bad, key=lambda b: b[2])
         where = f"kt = {e['kt']:g}" if e["kt"] is not None else f"law {e['law']}"
@@ -123,9 +140,8 @@ def rigidity(ns, argv):
     return 0
 
 
-def _print(packing, bb, params, results, out):
-    print(f"packing N = {packing.n} (backbone {bb.n}), phi = {packing.phi:g}, "
-          f"L = {packing.box:.6g}; law {params['law']}, dgamma = {params['dgamma']:g}")
+def _print(head, params, results, out):
+    print(f"{head}; law {params['law']}, dgamma = {params['dgamma']:g}")
     print(f"{'run':>12s} {'G_A':>12s} {'G_NA':>12s} {'G solve':>12s} {'G modes':>12s} "
           f"{'G step':>12s} {'+-':>8s} {'rel.diff':>8s}")
     for e in results:

@@ -182,7 +182,7 @@ def reuse(out, record):
 
 def _dependent_sha(record, out):
     """The SHA-256 of the packing a dependent record was made from; None: not a packing result."""
-    entry = record.get("packing")
+    entry = record.get("packing") or record.get("state")   # "state": a --state run
     if isinstance(entry, dict) and entry.get("sha256"):
         return entry["sha256"]
     source = record.get("packing_source")   # a record from before "packing" was kept

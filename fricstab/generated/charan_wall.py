@@ -172,7 +172,7 @@ def charan_wall_project(y, R, p, h):
     if abs(t) >= tstar:  # on the cap to the bit: +-t* exactly
         h[0] = tstar if t > 0.0 else -tstar
         return 1
-    return 0
+    return 1 if abs(t) >= tstar * 0.9999999999999982 else 0
 
 
 @hot_inline_jit
@@ -202,6 +202,7 @@ def charan_wall_advance(y, R, p, h, du, f, aux, want_aux):
         t = tstar if t > 0.0 else -tstar
         h[0] = t
         tn = tstar
+    if tn >= tstar * 0.9999999999999982:
         flags = 1
     c0 = kt*sdelta*t*(1.0 + kt*tn/(delta*kn*mu) - (kt * kt)*(tn * tn)/((delta * delta)*(kn * kn)*(mu * mu)))
     f[0] = -c0

@@ -36,8 +36,15 @@ Laws (:data:`LAMMPS_LAWS`):
   the stored shear onto the current tangent plane every step, ours keeps it
   as advanced, so the laws agree exactly in the normal force and at zero
   history, and differ by that projection once histories grow.
-* ``charan``, ``lee_hurley``: refused (:class:`~fricstab.errors.ParameterError`
-  naming the closest LAMMPS law and why it differs).
+* ``charan`` with ``approximate=True``: ``gran/hertz/history Kn Kt 0 0 mu 0``
+  as ``ishima`` with ``xmu = mu`` (:data:`APPROXIMATE`): the same normal force,
+  the same tangential stiffness at zero history and the same cap ``mu F_n``,
+  reached at the same ``|t| = t* = mu (kn/kt) delta``; in between charan's
+  tangential force is larger by its factor ``1 + s - s^2`` (``s = |t|/t*``; at
+  most 1.25, at ``s = 1/2``).  Step-0 forces are equal (zero history); a run
+  differs once histories grow.  Without ``approximate`` it is refused, saying so.
+* ``lee_hurley``: refused (:class:`~fricstab.errors.ParameterError` naming the
+  closest LAMMPS law and why it differs: its 2D normal force has no LAMMPS form).
 
 What is lost: contact histories.  A LAMMPS data file has no place for them
 (LAMMPS keeps shear histories in binary restarts only), so a state with
@@ -56,11 +63,14 @@ import numpy as np
 
 from fricstab.errors import ParameterError
 
-__all__ = ["LAMMPS_LAWS", "MAX_TYPES", "export_state_file", "write_lammps"]
+__all__ = ["APPROXIMATE", "LAMMPS_LAWS", "MAX_TYPES", "export_state_file", "write_lammps"]
 
 #: Our law -> the LAMMPS pair style it is exported as (the module docstring has the mapping).
 LAMMPS_LAWS = {"ishima": "gran/hertz/history", "hertz": "gran/hertz/history",
                "linear": "gran/hooke/history"}
+
+#: Laws exported with ``approximate=True`` as the closest style (module docstring).
+APPROXIMATE = {"charan": "gran/hertz/history"}
 
 #: Most distinct radii of a per-type-pair export (MAX_TYPES (MAX_TYPES + 1) / 2 sub-styles).
 MAX_TYPES = 8
@@ -69,8 +79,9 @@ XMU_MAX = 1.0e4     # LAMMPS' largest xmu: ishima's "no Coulomb cap"
 
 _REFUSED = {
     "charan": "charan's smoothed Coulomb factor (1 + s - s^2) has no LAMMPS form; the closest "
-              "is pair_style granular hertz + tangential mindlin (equal normal force, and "
-              "tangential force only at zero history)",
+              "is gran/hertz/history with xmu = mu (equal normal force, equal tangential "
+              "force at zero history and at the cap, up to 25 % apart between): pass "
+              "approximate=True to export it so",
     "lee_hurley": "lee_hurley's 2D Hertz-cylinder normal force pi E* delta / lam has no LAMMPS "
                   "form; the closest is pair_style granular hertz + tangential mindlin + "
                   "rolling sds (a 3D Hertz law, forces off by a per-contact factor)",
@@ -79,14 +90,19 @@ _REFUSED = {
 _FILES = ("data.lmp", "in.lmp", "README.txt")
 
 
-def _check(system, state):
+def _style(law):
+    """The LAMMPS pair style of ``law`` (exact or, for :data:`APPROXIMATE`, the closest)."""
+    return LAMMPS_LAWS.get(law) or APPROXIMATE[law]
+
+
+def _check(system, state, approximate=False):
     """ParameterError unless LAMMPS can take this system as exported here."""
     from fricstab.engine.system import check_system_state
     check_system_state(system, state)
     law = system.material.law
-    if law in _REFUSED:
+    if law in _REFUSED and not (approximate and law in APPROXIMATE):
         raise ParameterError(f"law {law} cannot be exported to LAMMPS: {_REFUSED[law]}")
-    if law not in LAMMPS_LAWS:
+    if law not in LAMMPS_LAWS and not (approximate and law in APPROXIMATE):
         raise ParameterError(f"law {law} cannot be exported to LAMMPS "
                              f"(exported: {', '.join(LAMMPS_LAWS)})")
     if not (system.lx > 0 and system.ly > 0):
@@ -140,7 +156,8 @@ def _pair_lines(system, radii):
     if law == "linear":
         return [f"pair_style gran/hooke/history {p['kn']:.17g} {p['kt']:.17g} 0.0 0.0 "
                 f"{p['mu']:.17g} 0", "pair_coeff * *"]
-    kt, xmu = (p["kt"], XMU_MAX) if law == "ishima" else (0.0, 0.0)
+    kt, xmu = {"ishima": (p.get("kt"), XMU_MAX), "charan": (p.get("kt"), p.get("mu"))}.get(
+        law, (0.0, 0.0))
     pairs = [(a, b) for a in range(len(radii)) for b in range(a, len(radii))]
     styles, coeffs = [], []
     for m, (a, b) in enumerate(pairs, 1):
@@ -176,7 +193,8 @@ def _data(path, system, state, types, title):
 
 def _deck(system, radii, dt, skin):
     law = system.material.law
-    lines = [f"# fricstab state, law {law}: LAMMPS {LAMMPS_LAWS[law]} (README.txt)",
+    how = "" if law in LAMMPS_LAWS else " (the closest style, not the same law)"
+    lines = [f"# fricstab state, law {law}: LAMMPS {_style(law)}{how} (README.txt)",
              "units lj", "dimension 2", "atom_style sphere", "boundary p p p", "newton on",
              "comm_modify vel yes", "read_data data.lmp"]
     lines += _pair_lines(system, radii)
@@ -209,7 +227,7 @@ def _history_loss(system, state):
 
 def _readme(system, xy, carrying, lost):
     law = system.material.law
-    text = [f"fricstab export of a {law} state to LAMMPS ({LAMMPS_LAWS[law]}).",
+    text = [f"fricstab export of a {law} state to LAMMPS ({_style(law)}).",
             "Run: lmp -in in.lmp (from this directory); contacts.dump lists the touching "
             "pairs' forces at step 0.",
             "Mapping: see fricstab/io/lammps.py (docs/howto/lammps_export.md).",
@@ -228,13 +246,20 @@ def _readme(system, xy, carrying, lost):
         text.append("gran/hooke/history projects its shear history onto the tangent plane "
                     "every step; fricstab's linear law does not: trajectories differ once "
                     "histories grow.")
+    if law == "charan":
+        text.append("APPROXIMATE: charan has no LAMMPS form. gran/hertz/history with xmu = mu "
+                    "has charan's normal force, its tangential stiffness at zero history and "
+                    "its cap mu F_n, reached at the same |t| = t* = mu (kn/kt) delta; in "
+                    "between charan's tangential force is larger by 1 + s - s^2 (s = |t|/t*), "
+                    "up to 25 % at s = 1/2, and LAMMPS caps by rescaling its history. Step-0 "
+                    "forces are equal (zero history); a run differs once histories grow.")
     if law == "ishima":
         text.append(f"xmu = {XMU_MAX:g} (LAMMPS' maximum) stands for Ishima's missing Coulomb "
                     "cap; LAMMPS also projects its shear history onto the tangent plane.")
     return "\n".join(text) + "\n"
 
 
-def write_lammps(out_dir, system, state, dt=None, title=None):
+def write_lammps(out_dir, system, state, dt=None, title=None, approximate=False):
     """Write ``data.lmp``, ``in.lmp`` and ``README.txt``: the state as a LAMMPS run.
 
     Histories are not exported (a data file cannot hold them): LAMMPS starts
@@ -253,6 +278,10 @@ def write_lammps(out_dir, system, state, dt=None, title=None):
         Time step written into ``in.lmp`` (default: none, LAMMPS' own).
     title : str, optional
         First line of ``data.lmp``.
+    approximate : bool
+        Export a law without a LAMMPS form as the closest style
+        (:data:`APPROXIMATE`: charan), saying how it differs in ``in.lmp`` and
+        ``README.txt``; default False: refused.
 
     Returns
     -------
@@ -265,11 +294,12 @@ def write_lammps(out_dir, system, state, dt=None, title=None):
     Raises
     ------
     ParameterError
-        A law LAMMPS has no form of (charan, lee_hurley), walls, an open
+        A law LAMMPS has no form of (lee_hurley; charan without
+        ``approximate``), walls, an open
         direction, fixed or driven particles, applied forces, dashpots, an
         inertia other than m R^2 / 2, more than :data:`MAX_TYPES` radii.
     """
-    _check(system, state)
+    _check(system, state, approximate)
     if dt is not None and not (np.isfinite(dt) and dt > 0):
         raise ParameterError(f"dt must be a finite number > 0, got {dt!r}")
     out = Path(out_dir)
@@ -281,11 +311,12 @@ def write_lammps(out_dir, system, state, dt=None, title=None):
     (out / "in.lmp").write_text(_deck(system, radii, dt, skin))
     carrying, lost = _history_loss(system, state)
     (out / "README.txt").write_text(_readme(system, xy, carrying, lost))
-    return {"files": [out / f for f in _FILES], "pair_style": LAMMPS_LAWS[system.material.law],
+    return {"files": [out / f for f in _FILES], "pair_style": _style(system.material.law),
+            "approximate": system.material.law not in LAMMPS_LAWS,
             "types": types, "tilt": xy, "history_contacts": carrying, "history_force": lost}
 
 
-def export_state_file(state_path, out_dir, dt=None):
+def export_state_file(state_path, out_dir, dt=None, approximate=False):
     """:func:`write_lammps` of a ``state.npz`` (``fricstab SCENE jacobian``'s file).
 
     Parameters
@@ -296,6 +327,8 @@ def export_state_file(state_path, out_dir, dt=None):
         Directory for the LAMMPS files.
     dt : float, optional
         Time step written into ``in.lmp``.
+    approximate : bool
+        As :func:`write_lammps`.
 
     Returns
     -------
@@ -304,4 +337,4 @@ def export_state_file(state_path, out_dir, dt=None):
     """
     from fricstab.io.jacobian_export import system_from_state
     system, state = system_from_state(state_path)
-    return write_lammps(out_dir, system, state, dt=dt)
+    return write_lammps(out_dir, system, state, dt=dt, approximate=approximate)

@@ -254,6 +254,53 @@ def lambdify_values():
     return Result({"contacts": int(m), "forces": err_f, "jacobian": err_j}, seeds=(0,))
 
 
+# ------------------------------------------------------------ seconds: import of the shipped examples
+
+IMPORT_EXAMPLES = "docs/examples/import"
+#: (files, options) of each shipped example, as docs/howto/analyse_imported.md imports them
+IMPORT_CASES = {
+    "lammps": (("lammps/packing.data", "lammps/atoms.dump", "lammps/pairs.dump"),
+               ("--columns", "id1,id2,dist,fx,fy,fz,p1,p2,p3,p4", "--file-units", "lj")),
+    "liggghts": (("liggghts/atoms.dump", "liggghts/pairs.dump"),
+                 ("--keywords", "pos,id,force,torque,history,contactArea")),
+    "csv": (("csv/packing.csv",), ("--units", "length=0.4,force=100,mass=20")),
+}
+
+
+def import_examples():
+    """``fricstab import`` of the shipped examples (made by LAMMPS gran/hertz/history, and
+    its state in LIGGGHTS' layout and as a lab's CSV) under ishima: per format the worst
+    relative force mismatch against the file, the contacts listed and kept, the residual."""
+    import contextlib
+    import io
+    import json
+    import tempfile
+    from pathlib import Path
+
+    from fricstab.cli import main
+
+    from .fingerprint import ROOT
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, (files, options) in IMPORT_CASES.items():
+            args = ["import", *(str(ROOT / IMPORT_EXAMPLES / f) for f in files), *options,
+                    "--law", "ishima", "--param", "kn=1", "--param", "kt=1", "--quiet",
+                    "--out", str(Path(tmp) / name)]
+            with contextlib.redirect_stdout(io.StringIO()):
+                rc = main(args)
+            if rc != 0:
+                raise RuntimeError(f"fricstab {' '.join(args)} exited {rc}")
+            rec = json.loads((Path(tmp) / name / "import.json").read_text())
+            out[name] = {"worst": rec["mismatch"]["worst_relative"],
+                         "listed": rec["counts"]["listed"], "kept": rec["counts"]["kept"],
+                         "residual": rec["residual"]["relative"]}
+    return Result(out)
+
+
+def _import_files():
+    return tuple(f"{IMPORT_EXAMPLES}/{f}" for files, _ in IMPORT_CASES.values() for f in files)
+
+
 # ------------------------------------------------------------ the claims
 
 def _proof_claim(scene, title, texts=None):
@@ -392,4 +439,23 @@ CLAIMS = [
                               and a["contacts"] == b["contacts"], "within 10x"),
           verdict=lambda v: bound_verdict(max(v["forces"], v["jacobian"]), 1e-12,
                                           "largest relative difference (round-off)")),
+    # --- fricstab import of the shipped examples (seconds)
+    Claim("engine.import_examples", "engine",
+          "`fricstab import` of the shipped examples under ishima (a 16-disk packing sheared "
+          "by LAMMPS gran/hertz/history to rest; its state in LIGGGHTS' layout with history "
+          "columns, and as a CSV in mm/N/g): worst relative force mismatch against the file",
+          "seconds",
+          "fricstab import docs/examples/import/lammps/{packing.data,atoms.dump,pairs.dump} "
+          "--columns id1,id2,dist,fx,fy,fz,p1,p2,p3,p4 --law ishima --param kn=1 --param kt=1 "
+          "--out DIR (docs/howto/analyse_imported.md)", import_examples,
+          show=lambda v: ", ".join(f"{k} {x['worst']:.1e} ({x['kept']}/{x['listed']} kept)"
+                                   for k, x in v.items()),
+          tolerance="within 10x of 1e-14: round-off of the law's inverse and forward (another "
+                    "operation order, another CPU); the contact counts exactly",
+          check=lambda a, b: (all(b[k]["worst"] <= 10 * max(a[k]["worst"], 1e-15)
+                                  and b[k]["kept"] == a[k]["kept"] for k in a), "within 10x"),
+          verdict=lambda v: bound_verdict(max(x["worst"] for x in v.values()), 1e-10,
+                                          "issue 37: our forces equal the file's to 1e-10"),
+          inputs=_import_files(),
+          texts={"lammps": lambda v: f"{v['lammps']['worst']:.1e}"}),
 ]

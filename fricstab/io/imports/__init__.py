@@ -10,8 +10,9 @@ raises :class:`FileFormatError` (``path:line: what``).  See
 from fricstab.io.imports.extxyz import read_extxyz
 from fricstab.io.imports.lammps import read_lammps, read_lammps_data, read_lammps_dump
 from fricstab.io.imports.liggghts import read_liggghts
+from fricstab.io.imports.load import load_state
 from fricstab.io.imports.state import FileFormatError, ImportedState
 from fricstab.io.imports.table import read_csv
 
-__all__ = ["FileFormatError", "ImportedState", "read_csv", "read_extxyz", "read_lammps",
-           "read_lammps_data", "read_lammps_dump", "read_liggghts"]
+__all__ = ["FileFormatError", "ImportedState", "load_state", "read_csv", "read_extxyz",
+           "read_lammps", "read_lammps_data", "read_lammps_dump", "read_liggghts"]

@@ -44,6 +44,7 @@ neighbor cutoff that do not touch are listed too (with zero force).
 """
 
 import math
+from pathlib import Path
 
 import numpy as np
 
@@ -315,8 +316,9 @@ def _column_map(tf, fr, columns):
     return out
 
 
-def _pairs(path, columns, timestep, frame, index):
-    """(ci, cj, {field: (K, 2)}, lines) of the pair dump frame at ``timestep`` (or ``frame``)."""
+def pair_frame(path, timestep, frame, box=None):
+    """(TextFile, Frame) of a ``dump local`` at the atoms' ``timestep`` (else frame ``frame``);
+    its box, where it states one, must be the particles' ``box`` (origin, size, tilt)."""
     tf, fr, starts = read_frame(path, frame, "ENTRIES")
     if timestep is not None and fr.timestep != timestep:
         frames = [dump_frame(tf, s, "ENTRIES") for s in starts]
@@ -325,6 +327,21 @@ def _pairs(path, columns, timestep, frame, index):
             tf.fail(starts[-1], f"no frame at timestep {timestep} (the atoms' frame); "
                                 f"timesteps here: {[f.timestep for f in frames][:8]}")
         fr = match[-1]
+    why = None if box is None or fr.lo is None else _box_differs(_frame_box(fr), box)
+    if why:
+        tf.fail(fr.box_line, f"the pairs' box is not the particles' ({why}): not one frame")
+    return tf, fr
+
+
+def particle_box(fields):
+    """(origin, size, tilt) of particle fields, or None without a box."""
+    return None if fields["box"] is None else (fields["origin"], fields["box"],
+                                               fields["le_offset"])
+
+
+def _pairs(path, columns, timestep, frame, index, box=None):
+    """(ci, cj, {field: (K, 2)}, lines) of the pair dump frame (:func:`pair_frame`)."""
+    tf, fr = pair_frame(path, timestep, frame, box)
     cmap = _column_map(tf, fr, columns)
     ci, cj = [], []
     for k, toks in fr.rows:
@@ -342,6 +359,26 @@ def _pairs(path, columns, timestep, frame, index):
     what = f"contacts ({', '.join(['ids'] + list(fields))}) at timestep {fr.timestep}"
     return (np.array(ci, np.int64), np.array(cj, np.int64), fields,
             tuple((tf.path, k) for k, _ in fr.rows), (tf.path, what))
+
+
+#: Two files of one frame state its box to within this (relative to its size): LAMMPS
+#: prints bounds with 17 digits; the tilted bounds' conversion rounds by an ulp or two.
+BOX_AGREE = 1e-12
+
+
+def _box_differs(a, b):
+    """Why boxes ``a`` and ``b`` ((origin, size, tilt) each) differ, or None."""
+    scale = max(max(a[1]), max(b[1]))
+    for name, x, y in (("xlo", a[0][0], b[0][0]), ("ylo", a[0][1], b[0][1]),
+                       ("lx", a[1][0], b[1][0]), ("ly", a[1][1], b[1][1]),
+                       ("xy", a[2], b[2])):
+        if abs(x - y) > BOX_AGREE * scale:
+            return f"{name} {x:.17g} against {y:.17g}"
+    return None
+
+
+def _frame_box(fr):
+    return None if fr.lo is None else (fr.lo, fr.box, fr.tilt)
 
 
 # ------------------------------------------------------------------ combined
@@ -391,7 +428,8 @@ def read_lammps(*, data=None, dump=None, pairs=None, columns=None, frame=-1, per
                                                 fixed_types, units)
     if pairs is not None:
         index = id_index(fields["ids"], fields["particle_lines"])
-        ci, cj, extra, clines, source = _pairs(pairs, columns, timestep, frame, index)
+        ci, cj, extra, clines, source = _pairs(pairs, columns, timestep, frame, index,
+                                               particle_box(fields))
         fields.update(ci=ci, cj=cj, contact_lines=clines, **extra)
         sources.append(source)
     return ImportedState(sources=sources, **fields)
@@ -431,6 +469,7 @@ def _dump_fields(dump, frame, state, periodic, fixed_types, units):
         fixed = _fixed(opt["type"].astype(np.int64), fixed_types)
     sources = [(tf.path, f"particles at timestep {fr.timestep}")]
     if state is not None:
+        _same_box(tf, fr, state)
         what = "masses" + (" and radii" if radius is None else "")
         dmass, radius, dfixed = _merge_data(state, ids, radius, tf, lines)
         mass = dmass if mass is None else mass
@@ -441,3 +480,18 @@ def _dump_fields(dump, frame, state, periodic, fixed_types, units):
     return dict(pos=pos, radius=radius, ids=ids, mass=mass, theta=opt["theta"], fixed=fixed,
                 box=box, origin=fr.lo or (0.0, 0.0), le_offset=fr.tilt, periodic=per,
                 units=names, particle_lines=lines), sources, fr.timestep
+
+
+def _same_box(tf, fr, data):
+    """A data file written at the dump frame's timestep (``write_data`` names it in the
+    header) has its box; one of another or no timestep (a start) only gives masses."""
+    import re
+    path = data.sources[0][0]
+    head = TextFile(path).line(1) if Path(path).is_file() else ""
+    m = re.search(r"timestep\s*=\s*(\d+)", head)
+    if m is None or int(m.group(1)) != fr.timestep or fr.lo is None:
+        return
+    why = _box_differs(_frame_box(fr), (data.origin, data.box, data.le_offset))
+    if why:
+        tf.fail(fr.box_line, f"the box is not the one of {path} ({why}) at the same "
+                             f"timestep {fr.timestep}: not one packing")

@@ -41,8 +41,7 @@ import numpy as np
 
 from fricstab.errors import ParameterError
 from fricstab.io.imports._text import id_index, min_image_normal
-from fricstab.io.imports.lammps import particle_fields
-from fricstab.io.imports.lammps_text import dump_frame, read_frame
+from fricstab.io.imports.lammps import pair_frame, particle_box, particle_fields
 from fricstab.io.imports.state import ImportedState
 
 __all__ = ["DEFAULT_KEYWORDS", "read_liggghts"]
@@ -99,17 +98,6 @@ def _values(tf, fr, cols, start, count, what, required=False):
     return out
 
 
-def _pair_frame(path, timestep, frame):
-    tf, fr, starts = read_frame(path, frame, "ENTRIES")
-    if fr.timestep != timestep:
-        frames = [f for f in (dump_frame(tf, s, "ENTRIES") for s in starts)
-                  if f.timestep == timestep]
-        if not frames:
-            tf.fail(starts[-1], f"no frame at timestep {timestep} (the atoms' frame)")
-        fr = frames[-1]
-    return tf, fr
-
-
 def read_liggghts(*, atoms, pairs, keywords=DEFAULT_KEYWORDS, n_history=3, compute_id=None,
                   frame=-1, periodic=None, fixed_types=(), units=None):
     """Read a LIGGGHTS packing: a per-atom dump and a pair/gran/local dump (module docstring).
@@ -141,7 +129,7 @@ def read_liggghts(*, atoms, pairs, keywords=DEFAULT_KEYWORDS, n_history=3, compu
     pfields, sources, timestep = particle_fields(None, atoms, frame, periodic,
                                                  fixed_types=fixed_types, units=units)
     base = ImportedState(sources=sources, **pfields)
-    tf, fr = _pair_frame(pairs, timestep, frame)
+    tf, fr = pair_frame(pairs, timestep, frame, particle_box(pfields))
     cols = _compute_columns(tf, fr, compute_id)
     ids = _values(tf, fr, cols, lay["id"], 2, "id", required=True)
     index = id_index(base.ids, base.particle_lines)
