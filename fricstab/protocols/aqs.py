@@ -193,6 +193,7 @@ class AQSResult:
     stress: np.ndarray
     n_pairs: np.ndarray
     growth: np.ndarray
+    pair_min_imag: np.ndarray  # smallest |Im lambda| of the counted pairs (NaN: no pair)
     min_real: np.ndarray      # the largest real part of the spectrum (closest to instability)
     contacts: np.ndarray      # touching contacts
     fire: np.ndarray          # bool: the step needed FIRE
@@ -286,7 +287,9 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
     -------
     AQSResult
         Per state: strain, shear stress (``k_N d^(-1/2)``), pair count,
-        growth rate (``t0^-1``, largest Re sqrt(-lambda)), contacts; the events
+        growth rate (``t0^-1``, largest Re sqrt(-lambda)), the smallest
+        ``|Im lambda|`` of the counted pairs (``t0^-2``, NaN without one), the
+        largest real part, contacts; the events
         with their brackets; the wall time.
 
     Raises
@@ -303,8 +306,8 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
     t0 = time.perf_counter()
     n_steps = int(np.floor(strain / dgamma + 1e-9))
     grid = dgamma * np.arange(n_steps + 1)
-    cols = {name: [] for name in ("stress", "n_pairs", "growth", "min_real", "contacts",
-                                  "fire")}
+    cols = {name: [] for name in ("stress", "n_pairs", "growth", "pair_min_imag", "min_real",
+                                  "contacts", "fire")}
     events = []
     if resume is None:
         s = state.copy()
@@ -317,8 +320,9 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
     else:
         from fricstab.engine import State
         s = State.from_arrays({k[6:]: v for k, v in resume.items() if k.startswith("state_")})
-        for name in cols:
-            cols[name] = list(resume[name])
+        for name in cols:   # a checkpoint from before pair_min_imag: NaN for its steps
+            cols[name] = list(resume[name] if name in resume
+                              else np.full(len(resume["stress"]), np.nan))
         events = [Event.from_row(r) for r in np.asarray(resume["events"]).reshape(-1, 9)]
         first = int(resume["step"]) + 1
         w = spectrum(system, s)[0]
@@ -327,8 +331,10 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
 
     def record(state_k, w_k, fire_k):
         cols["stress"].append(shear_stress(system, state_k)[0])
-        cols["n_pairs"].append(len(pairs(w_k)))
+        p_k = pairs(w_k)
+        cols["n_pairs"].append(len(p_k))
         cols["growth"].append(growth_rate(w_k))
+        cols["pair_min_imag"].append(float(p_k.imag.min()) if p_k.size else np.nan)
         cols["min_real"].append(float(w_k.real.max()))
         cols["contacts"].append(len(touching(system, state_k)))
         cols["fire"].append(fire_k)
@@ -378,6 +384,7 @@ def run_aqs(system, state, strain, dgamma, *, f_tol=1e-13, tol=1e-6, locate_even
                            **{name: np.asarray(v) for name, v in cols.items()},
                            "events": np.array([e.row() for e in events], float).reshape(-1, 9)})
     return AQSResult(grid[:len(cols["stress"])],
-                     *(np.asarray(cols[n]) for n in ("stress", "n_pairs", "growth", "min_real",
-                                                     "contacts", "fire")),
+                     *(np.asarray(cols[n]) for n in ("stress", "n_pairs", "growth",
+                                                     "pair_min_imag", "min_real", "contacts",
+                                                     "fire")),
                      events=events, seconds=time.perf_counter() - t0, failure=failure)

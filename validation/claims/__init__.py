@@ -12,7 +12,7 @@ import importlib
 #: the sections of RESULTS.md, in order: modules of this package, each with HEADING,
 #: INTRO (the setting: units, parameters; numbers we computed belong in claims, never
 #: there) and CLAIMS.
-SECTION_KEYS = ["kernels", "chain", "packing", "shear", "aqs", "engine"]
+SECTION_KEYS = ["kernels", "chain", "packing", "shear", "aqs", "precursors", "engine"]
 
 
 def section_module(key):

@@ -20,13 +20,13 @@ def _checkout():
     return Path(__file__).resolve().parents[2]
 
 
-def _aqs_study():
+def _aqs_study(name="aqs_study"):
     import importlib
     import sys
     path = str(_checkout() / "validation")
     if path not in sys.path:
         sys.path.insert(0, path)
-    return importlib.import_module("aqs_study")
+    return importlib.import_module(name)
 
 
 # ------------------------------------------------------------ minutes: brackets, growth, resume

@@ -1,0 +1,293 @@
+"""Issue 36: the ranked precursor test of AQS stress drops, with its power, per law and size.
+
+For charan (mu = 0.1, kT/kN = 1), ishima (kT/kN = 1) and hertz, each size and seed: AQS of the
+rattler-free backbone at phi = 0.90 (:func:`fricstab.protocols.aqs.run_aqs`, births at step
+resolution, ``on_failure="stop"``: strain and dgamma as ``validation/aqs_study.py``), each run
+cached as one .npz in ``--cache`` (written atomically; ``--resume`` reuses finished runs).
+Per law and N, for four candidates (pair count, largest growth rate, the largest real
+eigenvalue, the smallest ``|Im|`` of the pairs) the ranked test of
+:mod:`fricstab.analysis.precursors` (the onset's rank in its +-W neighbourhood, the permutation
+null, p-value), its power at true preceded fractions 0.5 and 0.8, and the power of the old
+1-step and 4-step birth-window tests against the same fractions.  Before running, the measured
+seconds per state and the projected compute of the requested sizes are printed.
+
+    python validation/precursor_study.py --sizes 64 128 --seeds 4 2 --cache DIR --resume
+    python validation/precursor_study.py --sizes 64 --seeds 4 --prefix precursor_study_n64 \
+        --cache DIR          # what the claims aqs.ranked_* record
+
+Writes ``<prefix>.md`` (tables), ``.json`` and ``.png`` (onset-rank histograms) under ``--out``.
+"""
+
+import argparse
+import json
+import platform
+import sys
+import time
+from datetime import datetime, timezone
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from fricstab.analysis.aqs import detect_drops  # noqa: E402
+from fricstab.analysis.precursors import permutation_test, power, window_power  # noqa: E402
+from fricstab.io.files import atomic_write, json_clean  # noqa: E402
+from fricstab.protocols.aqs import run_aqs, spectrum  # noqa: E402
+from fricstab.scenes.packing import make_packing  # noqa: E402
+from fricstab.scenes.packing_friction import backbone, frictional, material  # noqa: E402
+
+HERE = Path(__file__).resolve().parent
+
+#: (label, law, parameters): rows 0, 3 and 5 of validation/aqs_study.py
+LAWS = [("charan mu=0.1 kt=1", "charan", {"mu": 0.1, "kt": 1.0}),
+        ("ishima kt=1", "ishima", {"kt": 1.0}),
+        ("hertz", "hertz", {})]
+#: (AQSResult field, the direction in which a precursor is extreme at the onset)
+CANDIDATES = [("n_pairs", "greater"), ("growth", "greater"), ("min_real", "greater"),
+              ("pair_min_imag", "less")]
+FRACTIONS = (0.5, 0.8)
+WINDOW_STEPS = (1, 4)
+SERIES = ("strain", "stress") + tuple(c for c, _ in CANDIDATES)
+SLOW_HOURS = 12.0   # a projection above this is reported as too slow for one sitting
+
+
+def _key(n, seed, label, strain, dgamma):
+    return f"n{n}_s{seed}_{label.replace(' ', '_')}_{strain:g}_{dgamma:g}"
+
+
+def one_run(bb, law, params, strain, dgamma):
+    """One AQS path: the per-state series, the births (step resolution), the wall time."""
+    fr = frictional(bb, material(law, **params))
+    t0 = time.perf_counter()
+    res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False, on_failure="stop")
+    out = {name: np.asarray(getattr(res, name), float) for name in SERIES}
+    out["births"] = np.array([e.gamma for e in res.events if e.kind == "birth"], float)
+    out["seconds"] = np.float64(time.perf_counter() - t0)
+    out["failure"] = np.str_(res.failure or "")
+    return out
+
+
+def load_run(path):
+    with np.load(path) as z:
+        return {k: (str(z[k]) if k == "failure" else z[k]) for k in z.files}
+
+
+def save_run(path, run):
+    def write(tmp):
+        with open(tmp, "wb") as f:
+            np.savez(f, **run)
+    atomic_write(path, write)
+
+
+def probe(n, steps=3, dgamma=5e-4):
+    """Seconds per state (relaxation + dense spectrum) and of the spectrum alone, charan, N."""
+    bb = backbone(make_packing(n, 0.9, 0))
+    fr = frictional(bb, material("charan", mu=0.1, kt=1.0))
+    run_aqs(fr.system, fr.state, dgamma, dgamma, locate_events=False, on_failure="stop")
+    t0 = time.perf_counter()          # warm now (compiled kernels, caches)
+    spectrum(fr.system, fr.state)
+    t_spec = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    run_aqs(fr.system, fr.state, steps * dgamma, dgamma, locate_events=False,
+            on_failure="stop")
+    return (time.perf_counter() - t0) / (steps + 1), t_spec
+
+
+def budget(sizes, seeds, laws, strain, dgamma, cache, log=print):
+    """Print the measured seconds per state per N and the projected compute; return it."""
+    states = int(np.floor(strain / dgamma + 1e-9)) + 1
+    total, out = 0.0, []
+    for n, n_seeds in zip(sizes, seeds):
+        done = sorted(cache.glob(f"n{n}_s*_{strain:g}_{dgamma:g}.npz")) if cache else []
+        if done:
+            runs = [load_run(p) for p in done]
+            per, spec, how = (sum(float(r["seconds"]) for r in runs)
+                              / sum(len(r["strain"]) for r in runs), float("nan"),
+                              f"{len(done)} cached runs")
+        else:
+            per, spec = probe(n)
+            how = "3-step probe, charan"
+        hours = per * states * n_seeds * len(laws) / 3600
+        total += hours
+        out.append({"n": n, "seconds_per_state": per, "spectrum_seconds": spec,
+                    "projected_hours": hours})
+        log(f"N = {n}: {per:.3g} s per state ({how}"
+            + (f"; dense spectrum {spec:.3g} s" if np.isfinite(spec) else "")
+            + f") x {states} states x {n_seeds} seeds x {len(laws)} laws = {hours:.2f} h")
+    log(f"projected compute: {total:.2f} h on one core"
+        + (f" -- too slow for one sitting (> {SLOW_HOURS:g} h): the dense spectrum per state "
+           "dominates at N >= 512; run fewer sizes or seeds" if total > SLOW_HOURS else ""))
+    return out
+
+
+def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
+    """All runs, from the cache where ``resume`` finds them; {(label, n): [run, ...]}."""
+    todo = [(n, s, lab) for n, k in zip(sizes, seeds) for s in range(k) for lab, _, _ in laws]
+    done = sum(bool(cache and resume and (cache / f"{_key(n, s, lab, strain, dgamma)}.npz")
+                    .exists()) for n, s, lab in todo)
+    log(f"{done} of {len(todo)} runs done" + (" (resumed)" if done else ""))
+    runs, packings = {}, {}
+    for n, seed, label in todo:
+        law, params = next((w, p) for lab, w, p in laws if lab == label)
+        path = None if cache is None else cache / f"{_key(n, seed, label, strain, dgamma)}.npz"
+        if path is not None and resume and path.exists():
+            r = load_run(path)
+        else:
+            if (n, seed) not in packings:
+                packings = {(n, seed): backbone(make_packing(n, 0.9, seed))}
+            r = one_run(packings[(n, seed)], law, params, strain, dgamma)
+            if path is not None:
+                cache.mkdir(parents=True, exist_ok=True)
+                save_run(path, r)
+            log(f"  N = {n} seed {seed} {label}: {float(r['seconds']):.0f} s"
+                + (f" (stopped: {r['failure']})" if r["failure"] else ""))
+        runs.setdefault((label, n), []).append(dict(r, seed=seed))
+    return runs
+
+
+def _old_runs(runs):
+    """The runs in the form of fricstab.analysis.aqs.compare (onset strains, births)."""
+    return [{"drops": [d.gamma for d in detect_drops(r["strain"], r["stress"])],
+             "births": r["births"], "gamma_max": float(r["strain"][-1])} for r in runs]
+
+
+def _constant(x):
+    """No two different finite values (all NaN counts as constant)."""
+    v = np.asarray(x, float)
+    v = v[np.isfinite(v)]
+    return v.size == 0 or v.min() == v.max()
+
+
+def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
+    """Per (law, N): drops, the ranked test and power per candidate, the old tests' power."""
+    rows = []
+    for i, ((label, n), rs) in enumerate(runs.items()):
+        onsets = [[d.step - 1 for d in detect_drops(r["strain"], r["stress"])] for r in rs]
+        row = {"law": label, "n": n, "runs": len(rs), "drops": sum(map(len, onsets)),
+               "states": int(sum(len(r["strain"]) for r in rs)), "candidates": {}}
+        for j, (name, alt) in enumerate(CANDIDATES):
+            paths = [(r[name], o) for r, o in zip(rs, onsets)]
+            rng = np.random.default_rng([seed, i, j])
+            t = permutation_test(paths, half_width, n_perm, rng, alt)
+            t["alternative"] = alt
+            # a series constant on every path (hertz's pair count) cannot rank: no power
+            t["constant"] = all(_constant(r[name]) for r in rs)
+            for f in FRACTIONS:
+                t[f"power_{f:g}"] = float("nan") if t["constant"] else \
+                    power(paths, f, half_width, n_rep, 199, rng, alt)["power"]
+            row["candidates"][name] = t
+        old = _old_runs(rs)
+        for w in WINDOW_STEPS:
+            rng = np.random.default_rng([seed, i, 100 + w])
+            for f in FRACTIONS:
+                wp = window_power(old, w * dgamma, f, n_rep, rng)
+                row[f"window{w}_power_{f:g}"] = wp["power"]
+                row[f"window{w}_p0"] = wp["p0"]
+        rows.append(row)
+    return rows
+
+
+def _g(x, fmt="{:.2f}"):
+    return "-" if x is None or not np.isfinite(x) else fmt.format(x)
+
+
+def tables(rows):
+    """Markdown: the ranked test per candidate; the old tests' power."""
+    lines = ["| law | N | runs | drops | candidate | direction | drops ranked | mean rank "
+             "(null mean +- sd) | p | power f = 0.5 | power f = 0.8 |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        for name, t in r["candidates"].items():
+            lines.append(
+                f"| {r['law']} | {r['n']} | {r['runs']} | {r['drops']} | {name} | "
+                f"{'high' if t['alternative'] == 'greater' else 'low'} | {t['drops']} | "
+                f"{_g(t['statistic'])} ({_g(t['null_mean'])} +- {_g(t['null_sd'])}) | "
+                f"{_g(t['pvalue'], '{:.3g}')} | {_g(t['power_0.5'])} | {_g(t['power_0.8'])} |")
+    lines += ["", "| law | N | drops | null p0, 1 step | power 1 step f = 0.5 / 0.8 | "
+              "null p0, 4 steps | power 4 steps f = 0.5 / 0.8 |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        cells = [f"{_g(r[f'window{w}_p0'])} | {_g(r[f'window{w}_power_0.5'])} / "
+                 f"{_g(r[f'window{w}_power_0.8'])}" for w in WINDOW_STEPS]
+        lines.append(f"| {r['law']} | {r['n']} | {r['drops']} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def figure(rows, path):
+    """Onset-rank histograms per candidate (columns) and law (rows), pooled over N."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    labels = list(dict.fromkeys(r["law"] for r in rows))
+    fig, ax = plt.subplots(len(labels), len(CANDIDATES), figsize=(11, 2.2 * len(labels)),
+                           squeeze=False)
+    for i, label in enumerate(labels):
+        for j, (name, alt) in enumerate(CANDIDATES):
+            ranks = [x for r in rows if r["law"] == label for x in r["candidates"][name]["ranks"]]
+            a = ax[i, j]
+            if ranks:
+                a.hist(ranks, bins=10, range=(0, 1), density=True, color="0.6")
+            a.axhline(1.0, color="r", lw=0.8)
+            a.set_title(f"{label}: {name} ({'high' if alt == 'greater' else 'low'}), "
+                        f"{len(ranks)} drops", fontsize=7)
+            a.set_xlim(0, 1)
+    for a in ax[-1]:
+        a.set_xlabel("onset rank in its window")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def run(argv=None):
+    """The study for ``argv``; writes PREFIX.md, .json, .png under --out; returns the JSON doc."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512, 1024])
+    ap.add_argument("--seeds", type=int, nargs="+", default=None,
+                    help="number of seeds per size (0, 1, ...); default 4, 2, 1, 1, 1")
+    ap.add_argument("--laws", nargs="+", default=None, choices=[w for _, w, _ in LAWS])
+    ap.add_argument("--strain", type=float, default=0.2)
+    ap.add_argument("--dgamma", type=float, default=5e-4)
+    ap.add_argument("--cache", type=Path, default=None, help="one .npz per run here")
+    ap.add_argument("--resume", action="store_true", help="reuse the finished runs in --cache")
+    ap.add_argument("--half-width", type=int, default=25, help="neighbourhood W in states")
+    ap.add_argument("--n-perm", type=int, default=999)
+    ap.add_argument("--n-rep", type=int, default=400, help="replicates per power estimate")
+    ap.add_argument("--budget-only", action="store_true", help="print the projection, stop")
+    ap.add_argument("--out", type=Path, default=HERE)
+    ap.add_argument("--prefix", default="precursor_study")
+    a = ap.parse_args(argv)
+    seeds = a.seeds or [{64: 4, 128: 2}.get(n, 1) for n in a.sizes]
+    if len(seeds) != len(a.sizes):
+        ap.error("--seeds needs one count per size")
+    laws = [x for x in LAWS if a.laws is None or x[1] in a.laws]
+    t0 = time.perf_counter()
+    bud = budget(a.sizes, seeds, laws, a.strain, a.dgamma, a.cache if a.resume else None)
+    if a.budget_only:
+        return {"budget": bud}
+    runs = collect(a.sizes, seeds, laws, a.strain, a.dgamma, a.cache, a.resume)
+    rows = analyse(runs, a.dgamma, a.half_width, a.n_perm, a.n_rep)
+    text = tables(rows)
+    print(text)
+    stamp = (f"{datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {platform.node()}, "
+             f"{time.perf_counter() - t0:.0f} s")
+    stopped = [{"law": lab, "n": n, "seed": r["seed"], "gamma_max": float(r["strain"][-1])}
+               for (lab, n), rs in runs.items() for r in rs if r["failure"]]
+    run_s = sum(float(r["seconds"]) for rs in runs.values() for r in rs)
+    doc = {"rows": rows, "budget": bud, "run_seconds": run_s, "sizes": a.sizes, "seeds": seeds,
+           "strain": a.strain,
+           "dgamma": a.dgamma, "half_width": a.half_width, "n_perm": a.n_perm,
+           "n_rep": a.n_rep, "stopped": stopped, "stamp": stamp}
+    a.out.mkdir(parents=True, exist_ok=True)
+    (a.out / f"{a.prefix}.json").write_text(json.dumps(json_clean(doc)) + "\n")
+    figure(rows, a.out / f"{a.prefix}.png")
+    (a.out / f"{a.prefix}.md").write_text(
+        f"<!-- generated by validation/precursor_study.py ({stamp}) -->\n\n"
+        f"# The ranked precursor test\n\nSizes {a.sizes}, seeds {seeds}, strain {a.strain:g} "
+        f"in steps of {a.dgamma:g}, phi = 0.90 backbone; window +-{a.half_width} states, "
+        f"{a.n_perm} permutations, power from {a.n_rep} replicates at alpha = 0.05. "
+        f"Stopped paths: {len(stopped)}. The runs took {run_s:.0f} s in all.\n\n{text}\n")
+    return doc
+
+
+if __name__ == "__main__":
+    run()
