@@ -26,6 +26,7 @@ __all__ = [
     "CylinderPairGeometry",
     "CylinderWallGeometry",
     "PairGeometry",
+    "ScalarPairGeometry",
     "WallGeometry",
     "chain_diff",
     "expand_geometry",
@@ -79,6 +80,33 @@ class PairGeometry:
                 self.ty: -self.ty * self.inv_tn**3,
             },
         }
+
+
+class ScalarPairGeometry(PairGeometry):
+    """A disk-disk contact whose history is a scalar ``t`` along the tangent; base dx, dy, t.
+
+    The frame-indifferent laws (:mod:`symbolic.frame`) keep their history on the
+    current tangent line, ``t_vec = t t_hat(n)`` with ``t_hat = (n_y, -n_x)``, so
+    ``|t_vec| = |t|``: ``tn = sqrt(t^2)`` as for a wall.  The geometric
+    intermediates (``r``, ``n``, ``delta``, ``sdelta``) are :class:`PairGeometry`'s,
+    the same symbols; ``tx``, ``ty`` are kept only so that a vector law's
+    expressions can be rewritten at ``t_vec = t t_hat`` (they are no base variables).
+    """
+
+    def __init__(self):
+        super().__init__()
+        self.t = sp.Symbol("t", real=True)
+        self.base = (self.dx, self.dy, self.t)
+
+    def intermediates(self):
+        out = [(s, d) for s, d in super().intermediates() if s not in (self.tn, self.inv_tn)]
+        return out + [(self.tn, sp.sqrt(self.t**2)), (self.inv_tn, 1 / self.tn)]
+
+    def partials(self):
+        table = super().partials()
+        table[self.tn] = {self.t: self.t * self.inv_tn}
+        table[self.inv_tn] = {self.t: -self.t * self.inv_tn**3}
+        return table
 
 
 class WallGeometry:

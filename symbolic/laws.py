@@ -45,6 +45,10 @@ Laws
     LAMMPS ``gran/hooke/history`` without damping: ``F_n = k_n delta``,
     ``F_t = -k_t t`` with Charan's history projected onto ``|t| <= t*``
     (a hard cap; its sliding Jacobian carries the flag ``slide``).
+``ishima_fi``, ``charan_fi``, ``linear_fi`` and their walls (in :data:`LAWS`; :mod:`symbolic.frame`)
+    The same laws with a frame-indifferent history: a scalar ``xi`` along the
+    tangent ``t_hat = (n_y, -n_x)``, ``d xi = t_hat^T A dq``, force the vector
+    law's at ``t = xi t_hat``; the walls are the ``_wall`` laws renamed.
 
 Metadata (every law; written into each generated module)
 --------------------------------------------------------
@@ -576,7 +580,15 @@ def linear_wall():
     return derive_wall()
 
 
-#: The (kn, kt, [mu], vector history t) family of :mod:`fricstab.laws.verify`.
+def _fi(name, wall=False):
+    """The frame-indifferent form (:mod:`symbolic.frame`) of the law ``name``, or its wall."""
+    from symbolic import frame
+    vector = LAWS[name]()
+    return frame.fi_wall(vector) if wall else frame.fi_pair(vector)
+
+
+#: The (kn, kt, [mu], history t) family of :mod:`fricstab.laws.verify`; the
+#: ``_fi`` laws keep a scalar history along the tangent (:mod:`symbolic.frame`).
 LAWS = {
     "hertz": hertz_pair,
     "hertz_wall": hertz_wall,
@@ -586,11 +598,18 @@ LAWS = {
     "ishima_wall": ishima_wall,
     "linear": linear_pair,
     "linear_wall": linear_wall,
+    "ishima_fi": lambda: _fi("ishima"),
+    "ishima_fi_wall": lambda: _fi("ishima_wall", wall=True),
+    "charan_fi": lambda: _fi("charan"),
+    "charan_fi_wall": lambda: _fi("charan_wall", wall=True),
+    "linear_fi": lambda: _fi("linear"),
+    "linear_fi_wall": lambda: _fi("linear_wall", wall=True),
 }
 
 #: Pair laws in dispatch order: the id of a law is its index here, and its
 #: wall form (``Law.partner``) has the same id.
-PAIR_LAWS = ("hertz", "charan", "ishima", "lee_hurley", "linear")
+PAIR_LAWS = ("hertz", "charan", "ishima", "lee_hurley", "linear", "ishima_fi", "charan_fi",
+             "linear_fi")
 
 #: Every law: pair forms and their wall forms.
 ALL_LAWS = tuple(LAWS) + tuple(CAPPED_LAWS)

@@ -28,7 +28,7 @@ generated ``<law>_rate``, itself verified against hand-written rules).
 import numpy as np
 
 from fricstab.engine.jacobian import jacobian
-from fricstab.laws import get_law
+from fricstab.laws import get_law, vector_form
 
 __all__ = ["WorstErrors", "complex_step_jacobian", "central_jacobian", "free_dofs",
            "reference_forces", "translation_residual"]
@@ -131,12 +131,13 @@ def _on_engine_branch(system, state):
     linear's at its circle |t| = t* (its vector history moves as a whole).
     """
     hist = state.contacts.hist.copy()
-    if system.material.law not in ("lee_hurley", "linear"):
+    law = vector_form(system.material.law)  # a _fi law has its vector law's caps
+    if law not in ("lee_hurley", "linear"):
         return hist   # charan's smoothed Coulomb law is C1 at t*, ishima and hertz have no cap
     s = state.copy()
     system.project(s)
     flag = s.contacts.flag.astype(int)
-    if system.material.law == "linear":
+    if law == "linear":
         # project flags |t| >= t* (1 - 8 eps), where the kernels slide (symbolic/uniform.py
         # ON_CIRCLE; a wall history 1 - 1e-16 of t* at an overlap 5e-13 R, found by
         # hypothesis, slides): the vector history moves as a whole

@@ -26,7 +26,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from fricstab._numerics import cylinder_lambda
-from fricstab.laws import PAIR_LAW_NAMES
+from fricstab.laws import PAIR_LAW_NAMES, vector_form
 from fricstab.scenes.chain import ChainScene, chain_system, rest_overlap
 
 from tests.system_proof import (
@@ -57,7 +57,7 @@ def chain_states(draw, law):
     params = {}
     if law == "lee_hurley":
         params["mur"] = draw(st.sampled_from([0.0, 0.01, 0.1]))
-    if law in ("charan", "linear"):
+    if vector_form(law) in ("charan", "linear"):
         params["mu"] = draw(st.sampled_from([0.1, 10.0]))
     fx = 0.0 if law == "hertz" else 0.01
     scene = ChainScene(n=n, law=law, fx=fx, params=params)
@@ -93,7 +93,8 @@ def chain_states(draw, law):
     if nh:
         big = 1e100 if get_capped(law) else 1.0  # squared, still finite
         c.hist[:, 0] = big * np.cos(directions)
-        c.hist[:, 1] = big * np.sin(directions)
+        if nh > 1:                         # a _fi law's one slot: a scalar along the tangent
+            c.hist[:, 1] = big * np.sin(directions)
         if law == "lee_hurley":
             c.hist[:, 1] = big * np.sign(np.sin(directions) + 0.5)
         if get_capped(law):
@@ -137,14 +138,14 @@ def _stiffness_bound(scene, x):
     """
     p = scene.params
     arm = (1 + R) ** 2
-    if scene.law == "linear":  # kn, kt, and sliding mu kn + kt (slip_scale <= 1)
+    if vector_form(scene.law) == "linear":  # kn, kt, and sliding mu kn + kt (slip_scale <= 1)
         return arm * (p["kn"] * (1.0 + p["mu"]) + 2.0 * p["kt"])
     if scene.law == "lee_hurley":
         lam = cylinder_lambda(max(x, 1e-300), R, R)
         kn = math.pi * p["E"] / (lam - 1.0)
         return arm * (kn * (3.0 + p["mus"]) + math.pi * p["E"] * (R / 2) ** 2 / 4 * (1 + p["mur"]))
     kt = p.get("kt", 0.0)
-    coupling = 3.0 * p.get("mu", 1.0) * p["kn"] if scene.law == "charan" else 3.0 * kt
+    coupling = 3.0 * p.get("mu", 1.0) * p["kn"] if vector_form(scene.law) == "charan" else 3.0 * kt
     return arm * (1.5 * p["kn"] + 2.0 * kt + coupling) * math.sqrt(max(x, 0.0))
 
 
@@ -185,6 +186,7 @@ def central_model(scene, system, state, h):
     reach = 2 * h * (1 + R)
     ulp = math.ulp(max(np.abs(state.q).max(), system.lx))
     per_contact = 4 * kc * ulp / h
+    nh = c.hist.shape[1]
     for k in range(c.n):
         d = delta[k]
         if d + 2 * h < 0:
@@ -193,9 +195,10 @@ def central_model(scene, system, state, h):
             per_contact[k] += _stiffness_bound(scene, d + 2 * h) * (1 + 4 * ulp / h)
             continue
         e = 0.0
-        if scene.law == "charan":
+        law = vector_form(scene.law)  # a _fi law: its vector law's error model, |t| = |xi|
+        if law == "charan":
             tstar = p["mu"] * p["kn"] / p["kt"] * d
-            tn = float(np.hypot(*c.hist[k, :2])) if c.j[k] >= 0 else abs(c.hist[k, 0])
+            tn = float(np.hypot(*c.hist[k, :2])) if c.j[k] >= 0 and nh > 1 else abs(c.hist[k, 0])
             # curvature 2/delta^2 + 1/t*^2, and near t = 0 the |t| t term of a
             # pair's 2-vector history bends on the scale of |t| itself
             e += kc[k] * h * h * (2 / d ** 2 + 1 / tstar ** 2 + 3 / (tstar * max(tn, h)))
@@ -203,15 +206,15 @@ def central_model(scene, system, state, h):
                 e += kc[k] * (1 + R) * h / tstar
             if abs(tn - tstar) <= reach * (1 + tstar / d):
                 e += kc[k] * (1 + R) * h * (1 / tstar + 1 / d)
-        elif scene.law == "linear":
+        elif law == "linear":
             # smooth on each side (n turns on the scale r > d, t_hat on |t| = t*);
             # a step that reaches the circle crosses the jump of the block
             tstar = p["mu"] * p["kn"] / p["kt"] * d
-            tn = float(np.hypot(*c.hist[k, :2])) if c.j[k] >= 0 else abs(c.hist[k, 0])
+            tn = float(np.hypot(*c.hist[k, :2])) if c.j[k] >= 0 and nh > 1 else abs(c.hist[k, 0])
             e += kc[k] * h * h * (1 / d ** 2 + 1 / tstar ** 2)
             if abs(tn - tstar) <= reach * (1 + tstar / d):
                 e += kc[k] + _stiffness_bound(scene, d + 2 * h)
-        elif scene.law == "lee_hurley":
+        elif law == "lee_hurley":
             e += kc[k] * (h / d) ** 2
             lam = cylinder_lambda(d, R, R)
             fn = math.pi * p["E"] * d / lam
@@ -221,7 +224,7 @@ def central_model(scene, system, state, h):
             if any(abs(abs(c.hist[k, a]) - caps[a]) <= moves for a in range(2)):
                 e += kc[k] + _stiffness_bound(scene, d + 2 * h)
         else:
-            e += kc[k] * (0.125 if scene.law == "ishima" else 1 / 24) * (h / d) ** 2
+            e += kc[k] * (0.125 if law == "ishima" else 1 / 24) * (h / d) ** 2
         per_contact[k] += e
     cols = np.flatnonzero(system.family == 0)
     out = []

@@ -213,7 +213,7 @@ def test_bad_input_is_one_line_naming_the_parameter(cmd, extra, name, made, tmp_
 
 
 @pytest.mark.parametrize("law, ndof", [("hertz", 2), ("ishima", 3), ("charan", 3),
-                                       ("lee_hurley", 3)])
+                                       ("lee_hurley", 3), ("ishima_fi", 3)])
 def test_jacobian_of_every_law(made, tmp_path, capsys, law, ndof):
     """`packing jacobian --law NAME`: the common export, friction switched on and balanced.
 

@@ -34,6 +34,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from fricstab._numerics import cylinder_lambda
+from fricstab.laws import vector_form
 from fricstab.scenes.packing_friction import Backbone, material, packing_system
 from fricstab.scenes.packing_relax import separations
 
@@ -41,7 +42,8 @@ from tests.system_proof import (
     WorstErrors, central_jacobian, complex_step_jacobian, engine_jacobian, translation_residual)
 
 EPS = np.finfo(float).eps
-LAWS = ("hertz", "ishima", "charan", "lee_hurley", "linear")
+LAWS = ("hertz", "ishima", "charan", "lee_hurley", "linear", "ishima_fi", "charan_fi",
+        "linear_fi")
 CAPS = {"zero": 0.0, "inside": 0.5, "at": 1.0, "past": 1.5}
 WORST = WorstErrors(LAWS)
 
@@ -63,7 +65,7 @@ def _overlaps(system, state):
 
 def _set_histories(system, state, regimes, rng):
     """Histories of the touching contacts at a fraction ``CAPS[regime]`` of the law's cap."""
-    law, p = system.material.law, system.material.params
+    law, p = vector_form(system.material.law), system.material.params
     c, r = state.contacts, system.radius
     delta = _overlaps(system, state)
     for a in range(c.n):
@@ -71,11 +73,14 @@ def _set_histories(system, state, regimes, rng):
             continue
         s = CAPS[regimes[a % len(regimes)]]
         phi = rng.uniform(0, 2 * np.pi)
+        # a direction: a unit vector, or a sign for a _fi law's scalar along the tangent
+        unit = np.array([np.cos(phi), np.sin(phi)][:c.hist.shape[1]])
+        unit = np.sign(unit) if len(unit) == 1 else unit
         if law == "ishima":        # no cap: a displacement of the overlap's size
-            c.hist[a] = s * delta[a] * np.array([np.cos(phi), np.sin(phi)])
+            c.hist[a] = s * delta[a] * unit
         elif law in ("charan", "linear"):  # t* = mu (kn/kt) delta (Charan Eq. 5; linear's cap)
             tstar = p["mu"] * p["kn"] / p["kt"] * delta[a]
-            c.hist[a] = s * tstar * np.array([np.cos(phi), np.sin(phi)])
+            c.hist[a] = s * tstar * unit
         else:                      # caps mus F_n and mur R_r F_n (Lee & Hurley A10, A18)
             ri, rj = r[c.i[a]], r[c.j[a]]
             fn = np.pi * p["E"] * delta[a] / float(cylinder_lambda(delta[a], ri, rj))
@@ -158,7 +163,7 @@ def test_jacobian_matches_central_differences(law, data):
     fsum = np.abs(system.contact_forces(state)).max() * 10    # <= 10 contacts per disk
     qmax = np.abs(state.q).max()
     bound = scale * (10 * (h / delta_min) ** 2 + 4 * EPS * qmax / h) + 64 * EPS * fsum / h
-    if law == "charan":     # |t| t of Eq. 5 is C1 at t = 0: first order there, h / t*
+    if vector_form(law) == "charan":  # |t| t of Eq. 5 is C1 at t = 0: first order, h / t*
         p = system.material.params
         bound += scale * h / (p["mu"] * p["kn"] / p["kt"] * delta_min)
     err = np.abs(k - central_jacobian(system, state, h)).max()

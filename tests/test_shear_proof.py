@@ -28,6 +28,7 @@ from hypothesis import strategies as st
 
 from fricstab.engine import Material, System
 from fricstab.generated.dispatch import N_HIST
+from fricstab.laws import FRAME_INDIFFERENT, vector_form
 
 from tests.system_proof import (
     WorstErrors, central_jacobian, complex_step_jacobian, engine_jacobian, translation_residual)
@@ -39,6 +40,7 @@ LAWS = {"lee_hurley": {"E": 1.0, "nu": 0.2, "mus": 0.7, "mur": 0.01},
         "charan": {"kn": 5.0, "kt": 3.4, "mu": 0.7},
         "ishima": {"kn": 5.0, "kt": 3.4},
         "linear": {"kn": 1.0, "kt": 0.3, "mu": 0.7}}
+LAWS.update({f"{law}_fi": LAWS[law] for law in FRAME_INDIFFERENT})  # issue 36
 #: History modes: 0, inside the cap, exactly on it, past it.
 MODES = ("zero", "inside", "at", "past")
 H_FD = 1e-7
@@ -116,14 +118,21 @@ def _draw_histories(draw, rng, system, state):
             continue
         factor = {"inside": rng.uniform(0.0, 1.0), "at": 1.0,
                   "past": 1.0 + 10.0 ** rng.uniform(-9, 0)}[mode]
-        if system.material.law in ("charan", "linear"):  # one cap: the circle |t| = t*
+        if vector_form(system.material.law) in ("charan", "linear"):  # the circle |t| = t*
             ang = rng.uniform(0, 2 * np.pi)
             t = caps[k, :2]                  # the cap along a fixed direction: rescale
-            c.hist[k, :2] = np.hypot(*t) * factor * np.array([np.cos(ang), np.sin(ang)])
+            unit = np.array([np.cos(ang), np.sin(ang)])[:len(t)]
+            unit = np.sign(unit) if len(t) == 1 else unit  # a _fi law's scalar: a sign
+            c.hist[k, :2] = _norm(t[None])[0] * factor * unit
         else:                                # lee_hurley: ft and mr, each its own cap
             sign = rng.choice([-1.0, 1.0], nh)
             each = factor if mode != "inside" else rng.uniform(0, 1, nh)
             c.hist[k, :nh] = sign * caps[k, :nh] * each
+
+
+def _norm(hist):
+    """|t| per row: a vector history's length, or a _fi law's scalar's magnitude."""
+    return np.hypot(*hist.T) if hist.shape[1] == 2 else np.abs(hist[:, 0])
 
 
 def _rates(system, state):
@@ -165,18 +174,18 @@ def central_bound(system, state, h):
                                       + 4 * EPS * np.abs(state.q).max() / h), 0.0)
     kink = np.abs(delta) < 4 * h * arm
     rate = _rates(system, state)
-    law = system.material.law
+    law = vector_form(system.material.law)
     if system.material.info.capped:
         caps = _caps(system, state)
         hist = c.hist[:, :caps.shape[1]]
         if law == "charan":
-            tn, cap = np.hypot(*hist.T), np.hypot(*caps.T)
+            tn, cap = _norm(hist), _norm(caps)
             kink |= (np.abs(tn - cap) < 4 * h * rate) | (tn < 4 * h * rate)
             kn, kt, mu = system._p
             contrib += np.where(touch & (tn > 0), 2 * kt ** 2 * arm ** 4 * h ** 2
                                 / (mu * kn * np.sqrt(safe) * np.where(tn > 0, tn, 1.0)), 0.0)
         elif law == "linear":  # the block jumps at the circle, which moves with delta
-            tn, cap = np.hypot(*hist.T), np.hypot(*caps.T)
+            tn, cap = _norm(hist), _norm(caps)
             kink |= np.abs(tn - cap) < 4 * h * (rate + arm * cap / safe)
         else:
             kink |= np.any(np.abs(np.abs(hist) - caps) < 4 * h * rate[:, None], axis=1)

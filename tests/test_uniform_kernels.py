@@ -35,7 +35,7 @@ from hypothesis import strategies as st
 from fricstab._numerics import pair_geometry
 from fricstab.generated import dispatch
 from fricstab.laws import (ALL_LAW_NAMES, CAPPED_LAW_NAMES, LAW_NAMES, PAIR_LAW_NAMES,
-                           WALL_LAW_NAMES, get_law, law_id)
+                           WALL_LAW_NAMES, get_law, law_id, vector_form)
 from fricstab.laws import verify_lee_hurley as lh
 from fricstab.laws.verify import Case, case_inputs
 from tests.strategies import cases, shear_cases
@@ -489,8 +489,8 @@ def test_metadata_is_consistent_with_the_kernels(name):
     rot = {c.rstrip("_ij") for c in law.coords} - {"x", "y"}
     assert rot == ({law.rotation} if law.rotation else set())
     assert law.n_dof == (3 if law.rotation else 2)
-    assert law.capped == (name in ("charan", "charan_wall", "lee_hurley", "lee_hurley_wall",
-                                   "linear", "linear_wall"))
+    assert law.capped == (vector_form(name) in ("charan", "charan_wall", "lee_hurley",
+                                                "lee_hurley_wall", "linear", "linear_wall"))
     assert law.contact == ("kn", "kt", "kr", "fn")
     other = get_law(law.wall or law.pair)
     assert (other.pair or other.wall) == name and other.law_id == law.law_id
@@ -526,10 +526,12 @@ def test_metadata_is_consistent_with_the_kernels(name):
 
 def test_law_ids_and_names():
     assert PAIR_LAW_NAMES == dispatch.PAIR_LAWS == ("hertz", "charan", "ishima", "lee_hurley",
-                                                      "linear")
+                                                      "linear", "ishima_fi", "charan_fi",
+                                                      "linear_fi")
     assert WALL_LAW_NAMES == dispatch.WALL_LAWS
     assert set(ALL_LAW_NAMES) == set(PAIR_LAW_NAMES) | set(WALL_LAW_NAMES)
-    assert len(ALL_LAW_NAMES) == 10   # five pair laws and their wall forms (issue 37: linear)
+    # eight pair laws and their wall forms (issue 37: linear; issue 36: the _fi forms)
+    assert len(ALL_LAW_NAMES) == 16
     for i, (pair, wall) in enumerate(zip(PAIR_LAW_NAMES, WALL_LAW_NAMES)):
         assert law_id(pair) == law_id(wall) == i
     from fricstab.laws import ParameterError

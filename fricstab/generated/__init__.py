@@ -7,8 +7,8 @@ capped scalar histories and their own verification (fricstab.laws.verify_lee_hur
 PAIR_LAW_NAMES: the pair laws in dispatch order (the id of a law is its index,
 its wall form, WALL_LAW_NAMES, has the same id; see dispatch.py)."""
 
-LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'linear', 'linear_wall')
+LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'linear', 'linear_wall', 'ishima_fi', 'ishima_fi_wall', 'charan_fi', 'charan_fi_wall', 'linear_fi', 'linear_fi_wall')
 CAPPED_LAW_NAMES = ('lee_hurley', 'lee_hurley_wall')
-ALL_LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'linear', 'linear_wall', 'lee_hurley', 'lee_hurley_wall')
-PAIR_LAW_NAMES = ('hertz', 'charan', 'ishima', 'lee_hurley', 'linear')
-WALL_LAW_NAMES = ('hertz_wall', 'charan_wall', 'ishima_wall', 'lee_hurley_wall', 'linear_wall')
+ALL_LAW_NAMES = ('hertz', 'hertz_wall', 'charan', 'charan_wall', 'ishima', 'ishima_wall', 'linear', 'linear_wall', 'ishima_fi', 'ishima_fi_wall', 'charan_fi', 'charan_fi_wall', 'linear_fi', 'linear_fi_wall', 'lee_hurley', 'lee_hurley_wall')
+PAIR_LAW_NAMES = ('hertz', 'charan', 'ishima', 'lee_hurley', 'linear', 'ishima_fi', 'charan_fi', 'linear_fi')
+WALL_LAW_NAMES = ('hertz_wall', 'charan_wall', 'ishima_wall', 'lee_hurley_wall', 'linear_wall', 'ishima_fi_wall', 'charan_fi_wall', 'linear_fi_wall')

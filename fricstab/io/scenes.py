@@ -221,6 +221,21 @@ class LawChoice:
     units: dict
     refuse: object = None
 
+    def __post_init__(self):
+        """Each law with a vector history brings its frame-indifferent form ``<law>_fi``."""
+        from fricstab.laws import FRAME_INDIFFERENT
+        defaults, docs, units = dict(self.defaults), dict(self.docs), dict(self.units)
+        for law in (n for n in FRAME_INDIFFERENT if n in defaults):
+            fi = f"{law}_fi"
+            defaults.setdefault(fi, defaults[law])
+            docs.setdefault(fi, f"{law} with its history kept on the tangent (a scalar, "
+                                f"frame-indifferent); defaults as {law}: {docs.get(law, '')}")
+            for key in [k for k in units if k.startswith(f"{law}.")]:
+                units.setdefault(fi + key[len(law):], units[key])
+        object.__setattr__(self, "defaults", defaults)
+        object.__setattr__(self, "docs", docs)
+        object.__setattr__(self, "units", units)
+
     @staticmethod
     def names():
         from fricstab.laws import PAIR_LAW_NAMES

@@ -8,7 +8,8 @@ Sign and coordinate conventions are those of the generated modules' docstrings:
 Jacobian blocks are ``K = dF/dq`` (Charan's sign).  Ishima's Jacobian
 (Ishima Eq. 18) is ``-K`` in the coordinates (x, y, l = d theta/2).
 
-Ten laws, five pair laws and their wall forms (:data:`PAIR_LAW_NAMES`,
+Sixteen laws, eight pair laws and their wall forms (the last three pairs the
+frame-indifferent ``_fi`` forms, :data:`FRAME_INDIFFERENT`) (:data:`PAIR_LAW_NAMES`,
 :data:`WALL_LAW_NAMES`; a pair law and its wall form share the integer id
 :func:`law_id` of :mod:`fricstab.generated.dispatch`).  Every law has the
 uniform kernels ``eval``, ``rate``, ``project``, ``advance`` (one calling
@@ -28,9 +29,23 @@ from fricstab.generated import dispatch
 from fricstab.generated import (ALL_LAW_NAMES, CAPPED_LAW_NAMES, LAW_NAMES, PAIR_LAW_NAMES,
                                 WALL_LAW_NAMES)
 
-__all__ = ["ALL_LAW_NAMES", "CAPPED_LAW_NAMES", "LAW_NAMES", "LawInfo", "PAIR_LAW_NAMES",
-           "ParameterError", "WALL_LAW_NAMES", "check_parameters", "evaluate", "get_law",
-           "law_id"]
+__all__ = ["ALL_LAW_NAMES", "CAPPED_LAW_NAMES", "FRAME_INDIFFERENT", "LAW_NAMES", "LawInfo",
+           "PAIR_LAW_NAMES", "ParameterError", "WALL_LAW_NAMES", "check_parameters", "evaluate",
+           "get_law", "law_id", "vector_form"]
+
+#: The pair laws with a lab-frame vector history; each has a frame-indifferent
+#: form ``<law>_fi`` (scalar history along the tangent, symbolic/frame.py) and
+#: its wall partner ``<law>_fi_wall`` (the physics of ``<law>_wall``).
+FRAME_INDIFFERENT = ("charan", "ishima", "linear")
+
+
+def vector_form(name):
+    """The law whose physics ``name`` has: ``ishima_fi`` -> ``ishima``, ``linear_fi_wall``
+    -> ``linear_wall``; any other name unchanged."""
+    for law in FRAME_INDIFFERENT:
+        if name in (f"{law}_fi", f"{law}_fi_wall"):
+            return law + name[len(law) + 3:]
+    return name
 
 
 @dataclass(frozen=True)

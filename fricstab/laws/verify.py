@@ -17,8 +17,10 @@ Every perturbation moves q *and* advances the tangential history by the law's
 increment rule, written here by hand from the papers (Charan Eq. 2, Ishima
 Eq. D4), independently of the SymPy source.  The laws are the
 ``(kn, kt, [mu], t)`` family :data:`fricstab.laws.LAW_NAMES`: hertz,
-hertz_wall, charan, charan_wall, ishima, ishima_wall, linear, linear_wall.
-The block of ``linear`` jumps on its circle (a hard cap): a history there is
+hertz_wall, charan, charan_wall, ishima, ishima_wall, linear, linear_wall, and
+the frame-indifferent ishima_fi, charan_fi, linear_fi (a scalar history along
+the tangent, advanced by ``t_hat^T dt``) with their walls.
+The block of ``linear`` (and ``linear_fi``) jumps on its circle (a hard cap): a history there is
 checked by complex step only (``hard_cap_on_circle_cases``), and elsewhere the
 columns are shortened so that no difference step reaches it
 (:func:`fricstab.laws.verify_common.hard_cap_length`).
@@ -58,8 +60,11 @@ def reference_increment(law, args, sqrt=math.sqrt):
     Pair (Charan Eq. 2; Ishima Eq. D4 with arms 1 in the l coordinates):
     ``dt = (I - n n^T)(dr_i - dr_j) + (a_i dq3_i + a_j dq3_j)(n_y, -n_x)``.
     Wall (Charan Eq. 2): ``dt = dx + R dtheta``; in Ishima's coordinates
-    ``dt = dx + dl`` (``l = R theta``).  With ``sqrt=mpmath.sqrt`` and mpmath
-    inputs it is evaluated in that precision (an object array).
+    ``dt = dx + dl`` (``l = R theta``).  A frame-indifferent pair law (one
+    history entry, the scalar xi along ``t_hat = (n_y, -n_x)``): the tangent
+    component ``t_hat^T dt = t_hat . (dr_i - dr_j) + a_i dq3_i + a_j dq3_j``.
+    With ``sqrt=mpmath.sqrt`` and mpmath inputs it is evaluated in that
+    precision (an object array).
     """
     a = dict(zip(law.inputs, args))
     if not law.history:
@@ -70,6 +75,8 @@ def reference_increment(law, args, sqrt=math.sqrt):
     r = sqrt(a["dx"] * a["dx"] + a["dy"] * a["dy"])
     nx, ny = a["dx"] / r, a["dy"] / r
     arm_i, arm_j = (a["Ri"], a["Rj"]) if law.coords[2].startswith("theta") else (one, one)
+    if len(law.history) == 1:  # xi along t_hat = (n_y, -n_x)
+        return np.array([[ny, -nx, arm_i, -ny, nx, arm_j]])
     p = [[one - nx * nx, -nx * ny], [-nx * ny, one - ny * ny]]
     return np.array([
         [p[0][0], p[0][1], arm_i * ny, -p[0][0], -p[0][1], arm_j * ny],

@@ -46,7 +46,7 @@ ROUNDING_ULPS = 64
 
 #: Laws with a hard Coulomb cap (symbolic/linear.py): F_t = -k_t t, whose block
 #: jumps on the circle |t| = t* (sticking and sliding one-sided derivatives).
-HARD_CAP = ("linear", "linear_wall")
+HARD_CAP = ("linear", "linear_wall", "linear_fi", "linear_fi_wall")
 #: Hard cap: a history with ||t|/t* - 1| below this is on the cap; the
 #: difference checks skip it (a step would cross the jump), complex step
 #: (branch on real parts) checks its sliding block.
@@ -137,6 +137,7 @@ def case_inputs(law, case, radius=0.5, kn=1.0):
         if law.history:
             tmag = case.t_ratio * case.mu * kn / kt * delta
             v.update(tx=tmag * math.cos(case.psi), ty=tmag * math.sin(case.psi))
+            v.update(t=math.copysign(tmag, math.cos(case.psi)))  # a _fi law's scalar
     else:
         y = radius - case.delta_over_R * radius
         delta = radius - y

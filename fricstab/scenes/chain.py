@@ -42,7 +42,7 @@ import numpy as np
 from fricstab.engine import Material, System
 from fricstab.engine.jacobian import jacobian
 from fricstab.errors import check_instance, check_int, check_real, check_state
-from fricstab.laws import PAIR_LAW_NAMES, ParameterError, get_law
+from fricstab.laws import PAIR_LAW_NAMES, ParameterError, get_law, vector_form
 
 __all__ = ["CONVENTIONS", "CONVENTION_INERTIA", "ChainScene", "LAW_DEFAULTS", "LAW_DOCS",
            "LAW_UNITS", "LEE_HURLEY_E",
@@ -112,7 +112,7 @@ def law_defaults(law, values):
     out = {}
     for key in pair + wall:
         if vals.get(key) is None:
-            d = LAW_DEFAULTS[law][key]
+            d = LAW_DEFAULTS[vector_form(law)][key]
             vals[key] = float(d[1](vals) if isinstance(d, tuple) else d)
         out[key] = vals[key]
     return {k: out[k] for k in pair}, {k: out[k] for k in wall}
@@ -293,7 +293,7 @@ def chain_system(scene):
 def _rest_overlap(key):
     n, radius, mass, fy, inertia, law, params, wall = key
     p = dict(params)
-    if law == "linear":
+    if vector_form(law) == "linear":
         return fy / p["kn"]
     if law != "lee_hurley":
         return (fy / p["kn"]) ** (2.0 / 3.0)
@@ -321,7 +321,7 @@ def reference_stiffness(scene):
     Sets Charan's time unit sqrt(m 2R / kn) and the scales of the protocols
     (``linear``'s kn is a force/length, not a Hertz stiffness).
     """
-    if "kn" in scene.params and scene.law != "linear":
+    if "kn" in scene.params and vector_form(scene.law) != "linear":
         return scene.params["kn"]
     return scene.fy / rest_overlap(scene) ** 1.5
 
@@ -332,7 +332,7 @@ def wall_stiffness(scene):
     Hertz: ``1.5 kn (F_y/kn)^(1/3)``; Hertz cylinders: ``pi E* / (lam - 1)``;
     linear: ``kn``.
     """
-    if scene.law == "linear":
+    if vector_form(scene.law) == "linear":
         return scene.params["kn"]
     if scene.law != "lee_hurley":
         kn = scene.params["kn"]

@@ -27,6 +27,7 @@ from fricstab._numerics import cylinder_lambda
 from fricstab.engine import Material, System, newton
 from fricstab.errors import ParameterError, check_instance, check_int, check_real
 from fricstab.io.scenes import LawChoice
+from fricstab.laws import vector_form
 from fricstab.scenes.packing_relax import relax_normal, singular_guard
 from fricstab.scenes.packing import KN, Packing, find_contacts, frictionless_system, hertz_forces
 
@@ -56,7 +57,7 @@ LINEAR_KT = round(KN * float(np.sqrt(TYPICAL_OVERLAP)), 6)
 
 
 def _refuse(law, values):
-    if values.get("kt_scan") is not None and law not in ("ishima", "charan"):
+    if values.get("kt_scan") is not None and vector_form(law) not in ("ishima", "charan"):
         return ("has no kt: --kt (scene key kt_scan) scans kT/kN of ishima and charan; "
                 "set this law's parameters with --param")
     return None

@@ -151,7 +151,8 @@ def frictionless_form(mat):
     vanish to round-off, the normal force is the law's); ``linear`` likewise
     with ``mu = 1e-300`` (its normal force ``kn xi`` is not Hertz's).
     """
-    if mat.law == "linear":
+    from fricstab.laws import vector_form
+    if vector_form(mat.law) == "linear":
         return replace(mat, params={**mat.params, "mu": 1e-300})
     if "kn" in mat.params:
         return Material("hertz", {"kn": mat.params["kn"]})

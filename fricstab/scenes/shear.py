@@ -222,7 +222,8 @@ SCHEMA = register(Schema("shear", "Plane shear cell with constant normal force (
 
 #: Unit (a Units attribute) of each history slot of each law, for SI frames.
 HISTORY_UNITS = {"lee_hurley": ("force", "moment"), "charan": ("length", "length"),
-                 "ishima": ("length", "length"), "hertz": (), "linear": ("length", "length")}
+                 "ishima": ("length", "length"), "hertz": (), "linear": ("length", "length"),
+                 "charan_fi": ("length",), "ishima_fi": ("length",), "linear_fi": ("length",)}
 
 
 def restitution(alpha):

@@ -283,6 +283,10 @@ def to_engine(imported, law, params, units=None, wall_params=None, density=None,
     if not isinstance(imported, ImportedState):
         raise ParameterError(f"imported must be an ImportedState (fricstab.io.imports), got "
                              f"{type(imported).__name__}")
+    from fricstab.laws import vector_form
+    if vector_form(law) != law:  # a scalar history along the tangent: not mapped from files
+        raise ParameterError(f"law {law}: importing into a frame-indifferent (_fi) law is not "
+                             f"supported; import with {vector_form(law)}")
     material = Material(law, dict(params), dict(wall_params or {}))
     sc, mapping = _scales(imported, units)
     radius, mass, inert, family = _particles(imported, sc, density, inertia)
