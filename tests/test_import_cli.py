@@ -219,3 +219,32 @@ def test_files_of_two_boxes_are_refused(tmp_path, capsys, changed, old, new, nam
                          capsys)
     assert rc == 2 and err.startswith(f"fricstab: error: {tmp_path / named}:{line}: "), err
     assert "box" in err and not out.exists()
+
+
+@pytest.mark.parametrize("name", ["lammps", "liggghts"])
+def test_frame_indifferent_law_imports_the_tangential_part(name, tmp_path, capsys):
+    """Under ishima_fi the history is xi = t . t_hat (t_hat = (n_y, -n_x)) of ishima's t.
+    LAMMPS' tangential force is perpendicular to n (its history is projected onto the
+    tangent), so nothing is lost: the forces agree with the file's to round-off as under
+    ishima (bound as above), and xi t_hat is ishima's history to the same rounding."""
+    files, extra = SHIPPED[name]
+    out = {}
+    for law in ("ishima", "ishima_fi"):
+        out[law] = tmp_path / law
+        args = [*files, *extra, "--law", law, "--param", "kn=1", "--param", "kt=1",
+                "--out", out[law]]
+        rc, _, err = _import(args, capsys)
+        assert rc == 0, err
+        assert verify(out[law], "import")["mismatch"]["worst_relative"] < 1e-12
+    s_v, st_v = system_from_state(out["ishima"] / "state.npz")
+    s_f, st_f = system_from_state(out["ishima_fi"] / "state.npz")
+    assert st_f.contacts.hist.shape[1] >= 1
+    c = st_f.contacts
+    dx = st_f.q[c.i, 0] - st_f.q[c.j, 0] - c.k * st_f.shift - c.m * s_f.lx
+    dy = st_f.q[c.i, 1] - st_f.q[c.j, 1] - c.k * s_f.ly
+    r = np.hypot(dx, dy)
+    t_hat = np.column_stack([dy / r, -dx / r])
+    assert np.array_equal(np.column_stack([c.i, c.j]), np.column_stack([st_v.contacts.i,
+                                                                        st_v.contacts.j]))
+    t = st_v.contacts.hist[:, :2]
+    assert np.abs(c.hist[:, :1] * t_hat - t).max() <= 1e-12 * np.abs(t).max()

@@ -283,3 +283,15 @@ def test_bad_window_is_named():
             soft_spectrum(system, state, k)
     with pytest.raises(ParameterError, match="tol"):
         soft_spectrum(system, state, 4, tol=-1.0)
+
+
+def test_every_capped_law_has_its_cap_slots():
+    """A recorded cap branch is restored for every pair law with a cap (CAP_SLOTS), on
+    history slots the law has: a law added without its slots would lose its branches."""
+    from fricstab.analysis.shear_spectrum import CAP_SLOTS
+    from fricstab.laws import PAIR_LAW_NAMES, get_law
+    for name in PAIR_LAW_NAMES:
+        info = get_law(name)
+        assert info.capped == (name in CAP_SLOTS), name
+        for slots in CAP_SLOTS.get(name, {}).values():
+            assert max(slots) < info.n_hist, name

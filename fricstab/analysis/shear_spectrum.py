@@ -99,7 +99,8 @@ IMAG_TOL = 1e-8
 #: Relative move of a recorded history off (or onto) its cap (module docstring).
 CAP_REL = 1e-9
 #: History slots of each flag bit: bit 1 the tangential cap, bit 2 the rolling cap.
-CAP_SLOTS = {"lee_hurley": {1: (0,), 2: (1,)}, "charan": {1: (0, 1)}}
+CAP_SLOTS = {"lee_hurley": {1: (0,), 2: (1,)}, "charan": {1: (0, 1)}, "linear": {1: (0, 1)},
+             "charan_fi": {1: (0,)}, "linear_fi": {1: (0,)}}
 #: Spectrum routes (module docstring).
 ROUTES = ("soft", "dense")
 #: Default window of the soft route: the k eigenvalues of smallest modulus.

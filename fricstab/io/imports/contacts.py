@@ -283,10 +283,6 @@ def to_engine(imported, law, params, units=None, wall_params=None, density=None,
     if not isinstance(imported, ImportedState):
         raise ParameterError(f"imported must be an ImportedState (fricstab.io.imports), got "
                              f"{type(imported).__name__}")
-    from fricstab.laws import vector_form
-    if vector_form(law) != law:  # a scalar history along the tangent: not mapped from files
-        raise ParameterError(f"law {law}: importing into a frame-indifferent (_fi) law is not "
-                             f"supported; import with {vector_form(law)}")
     material = Material(law, dict(params), dict(wall_params or {}))
     sc, mapping = _scales(imported, units)
     radius, mass, inert, family = _particles(imported, sc, density, inertia)
@@ -339,14 +335,23 @@ def _contacts(imported, system, state, sc, report):
                          dropped_fixed=int(both_fixed.sum()), added=int(len(added)))
     hist = _histories(imported, system, state, sc, report, rows, keep, sep, dist, delta)
     if hist is not None:
-        hist = _history_transform(law, hist, swapped)
-        state.contacts.hist[rows[keep], :2] = hist[keep]
+        nh = system.material.info.n_hist
+        if nh == 1:    # a frame-indifferent law: xi = t . t_hat, t_hat = (n_y, -n_x)
+            n = sep / np.where(dist > 0, dist, 1.0)[:, None]
+            hist = (hist[:, 0] * n[:, 1] - hist[:, 1] * n[:, 0])[:, None]
+        else:
+            hist = _history_transform(law, hist, swapped)
+        state.contacts.hist[rows[keep], :nh] = hist[keep]
     system.project(state)
 
 
 def _histories(imported, system, state, sc, report, rows, keep, sep, dist, delta):
-    """Histories (K_file, 2) in the file's orientation, or None (zero); flags in report."""
-    law = system.material.law
+    """Histories (K_file, 2) in the file's orientation, or None (zero); flags in report.
+
+    A frame-indifferent law (``ishima_fi``, ...) gets its vector law's history here
+    (the caller keeps its part along the tangent)."""
+    from fricstab.laws import vector_form
+    law = vector_form(system.material.law)
     info = system.material.info
     if imported.history is not None and not info.n_hist:
         report.notes.append(f"law {law} has no history: the file's history columns are unused")
