@@ -71,6 +71,7 @@ from fricstab.engine import Material, System
 from fricstab.errors import ParameterError
 from fricstab.io.scenes import (SCALE_HIGH, SCALE_LOW, Derived, Field, LawChoice, Schema,
                                 in_scale_window, register, validate)
+from fricstab.laws import vector_form
 
 __all__ = ["SCHEMA", "LAWS", "HISTORY_UNITS", "ISHIMA_KT_FACTOR", "Units", "Cell", "make_cell", "material",
            "restitution", "typical_overlap", "units_of"]
@@ -281,7 +282,8 @@ def material(params, units=None):
     """The engine :class:`Material` of ``params`` (SI; in the reduced ``units`` if given)."""
     law = dict(params["law_params"])
     if units is not None:
-        red = {k: _REDUCE.get(f"{params['law']}.{k}", _REDUCE.get(k)) for k in law}
+        physics = vector_form(params["law"])     # a _fi law has its vector law's units
+        red = {k: _REDUCE.get(f"{physics}.{k}", _REDUCE.get(k)) for k in law}
         law = {k: v / red[k](units) if red[k] is not None else v for k, v in law.items()}
     return Material(params["law"], law)
 
