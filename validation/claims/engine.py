@@ -6,7 +6,8 @@ from .core import Claim, Result, Verdict, bound_verdict
 HEADING = 'The engine, the product surface and the tests'
 INTRO = ("System-level proofs of every law in every scene, the pinned regression tier, and the product's promises (records, resume, bad input, figures), each shown by a committed test run in the claim's own process (`validation/claims/_testrun.py`): the claim records what the test showed.")
 
-PROOF_LAWS = ("hertz", "charan", "ishima", "lee_hurley", "linear")
+PROOF_LAWS = ("hertz", "charan", "ishima", "lee_hurley", "linear", "ishima_fi", "charan_fi",
+              "linear_fi")
 PROOF_SCENES = {"chain": "tests/test_chain_proof.py", "packing": "tests/test_packing_proof.py",
                 "shear": "tests/test_shear_proof.py"}
 HYPOTHESIS_SEED = "20261121"
@@ -331,7 +332,8 @@ CLAIMS = [
           "same, plane-shear cell (walls of disks, images, clamped rows); translations (issue: <= 1e-10; 32 eps)"),
     # --- the product's promises (minutes, one test run)
     _test_claim("matrix",
-                "every cell of (hertz, charan, ishima, lee_hurley, linear) x (chain, packing, shear) "
+                "every cell of (hertz, charan, ishima, lee_hurley, linear and the _fi forms) x "
+                "(chain, packing, shear) "
                 "runs from the command line with its defaults; the Jacobian recomputed from "
                 "state.npz alone equals jacobian.npz; every record's manifest verifies",
                 ["test_every_law_runs_in_every_scene"],

@@ -469,7 +469,7 @@ def _claim(short, title, tier, command, compute, show, tolerance, check, **kw):
 
 CLAIMS = [
     _claim("complex_step_quick",
-           "generated K vs complex step, the eight (kn, kt, mu, t) laws, 50 seeded cases each",
+           "generated K vs complex step, every (kn, kt, mu, t) law and its _fi form, 50 seeded cases each",
            "seconds", "python validation/reproduce.py --claim kernels.complex_step_quick",
            kernels_quick,
            show=lambda v: ", ".join(f"{k} {x:.1e}" for k, x in v["worst"].items())

@@ -3,7 +3,7 @@ whether a candidate precursor is extreme at the onset of a stress drop of quasis
 
 import math
 
-from .aqs import _aqs_study
+from .aqs import _aqs_study, _checkout
 from .core import Claim, Result
 
 HEADING = "Precursors of stress drops: the ranked test"
