@@ -2,26 +2,17 @@
 
 Subcommands
 -----------
-``fricstab laws``
-    List the contact laws: kernel arguments, parameters with units, degrees
-    of freedom, history size, rotation coordinate, cap and wall/pair form.
-``fricstab verify --law NAME|all --cases N --seed S --json PATH``
-    Prove the generated Jacobian blocks against complex-step, central and
-    50-digit differences and a Taylor test (:mod:`fricstab.laws.verify`), print a
-    table and write a JSON list with one object per law.
-``fricstab chain ramp|jacobian ...``
-    The chain of disks of Charan et al. (:mod:`fricstab.cli.chain`).
-``fricstab packing make|rigidity|dos ...``
-    Disk packings of Ishima et al.: rigidity and DOS (:mod:`fricstab.cli.packing`).
-``fricstab import FILE... --law NAME --param KEY=VALUE ... --out DIR``
-    A packing made elsewhere (LAMMPS, LIGGGHTS, extxyz, CSV) as our state,
-    checked against the law (:mod:`fricstab.cli.imports`).
-``fricstab shear ...``
-    Plane shear of Lee & Hurley (:mod:`fricstab.cli.shear`, when installed).
-``fricstab warmup``
-    Compile every numba kernel once, a line per group (:mod:`fricstab.cli.warmup`).
-``fricstab scene show NAME`` / ``fricstab scene list``
-    The keys of a scene file: type, default, unit, allowed values (:mod:`fricstab.io.scenes`).
+``fricstab laws``: the contact laws (kernel arguments, parameters with units, dof,
+history, rotation coordinate, cap, wall/pair form).
+``fricstab verify --law NAME|all --cases N --seed S --json PATH``: prove the generated
+Jacobian blocks (:mod:`fricstab.laws.verify`); a table and a JSON list per law.
+``fricstab chain ...``: Charan et al.'s chain (:mod:`fricstab.cli.chain`).
+``fricstab packing ...``: Ishima et al.'s packings (:mod:`fricstab.cli.packing`).
+``fricstab import FILE... --law NAME --param KEY=VALUE ... --out DIR``: a packing made
+elsewhere as our state, checked against the law (:mod:`fricstab.cli.imports`).
+``fricstab shear ...``: Lee & Hurley's plane shear (:mod:`fricstab.cli.shear`).
+``fricstab warmup``: compile every numba kernel once (:mod:`fricstab.cli.warmup`).
+``fricstab scene show NAME|list``: the keys of the scene files (:mod:`fricstab.io.scenes`).
 
 Exit status
 -----------
@@ -32,8 +23,7 @@ energy or eigenvalue; no convergence; out of memory), the last checkpoint
 kept; 70 internal error (a bug: one line, the traceback in
 ``<out>/fricstab-error.log`` or shown with ``--debug``); 130 SIGINT, 143
 SIGTERM (:mod:`fricstab.signals`; checkpoints kept: rerun with ``--resume``).
-No traceback reaches the user
-unless ``--debug`` is given.
+No traceback reaches the user unless ``--debug`` is given.
 """
 
 import argparse
