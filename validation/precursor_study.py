@@ -19,8 +19,10 @@ Writes ``<prefix>.md`` (tables), ``.json`` and ``.png`` (onset-rank histograms) 
 """
 
 import argparse
+import hashlib
 import json
 import platform
+import shutil
 import sys
 import time
 from datetime import datetime, timezone
@@ -50,27 +52,61 @@ FRACTIONS = (0.5, 0.8)
 WINDOW_STEPS = (1, 4)
 SERIES = ("strain", "stress") + tuple(c for c, _ in CANDIDATES)
 SLOW_HOURS = 12.0   # a projection above this is reported as too slow for one sitting
+CHECKPOINT_EVERY = 10   # strain steps between a path's checkpoints (N = 1,024: ~3 min)
+
+
+def code_hash(root=HERE.parent):
+    """The hash of the code a run depends on: every module of ``fricstab`` but the CLI (syntax
+    trees without docstrings, :func:`claims.fingerprint.module_hash`).  A cached run or a
+    checkpoint is reused only under the same hash, so ``--resume`` never mixes code."""
+    sys.path.insert(0, str(HERE))
+    from claims.fingerprint import module_hash, package_files
+    digest = hashlib.sha256()
+    for rel in package_files(root=root):
+        digest.update(f"{rel}:{module_hash(rel, root)}\n".encode())
+    return digest.hexdigest()[:16]
 
 
 def _key(n, seed, label, strain, dgamma):
     return f"n{n}_s{seed}_{label.replace(' ', '_')}_{strain:g}_{dgamma:g}"
 
 
-def one_run(bb, law, params, strain, dgamma):
-    """One AQS path: the per-state series, the births (step resolution), the wall time."""
+def one_run(bb, law, params, strain, dgamma, ckpt_dir=None, every=CHECKPOINT_EVERY):
+    """One AQS path: the per-state series, the births (step resolution), the wall time.
+
+    ``ckpt_dir``: the path is checkpointed there every ``every`` steps and continued from its
+    latest checkpoint (bit-identically, :func:`run_aqs`); the seconds add up over sittings.
+    """
     fr = frictional(bb, material(law, **params))
+    ck = resume = None
+    spent = 0.0
+    if ckpt_dir is not None:
+        from fricstab.io.checkpoint import Checkpointer
+        ck = Checkpointer(ckpt_dir, {"law": law, "params": params, "strain": strain,
+                                     "dgamma": dgamma, "n": int(fr.system.n)})
+        resume = ck.latest()
+        if resume is not None:
+            spent = float(resume.pop("seconds_so_far"))
+            resume.pop("path")
     t0 = time.perf_counter()
-    res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False, on_failure="stop")
+
+    def save(k, arrays):
+        now = spent + time.perf_counter() - t0
+        ck.save(k, seconds_so_far=np.float64(now), **arrays)
+        print(f"    N = {fr.system.n} {law}: step {k} checkpointed ({now:.0f} s)", flush=True)
+    res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False, on_failure="stop",
+                  resume=resume, checkpoint=None if ck is None else save,
+                  checkpoint_every=every if ck is not None else 0)
     out = {name: np.asarray(getattr(res, name), float) for name in SERIES}
     out["births"] = np.array([e.gamma for e in res.events if e.kind == "birth"], float)
-    out["seconds"] = np.float64(time.perf_counter() - t0)
+    out["seconds"] = np.float64(spent + time.perf_counter() - t0)
     out["failure"] = np.str_(res.failure or "")
     return out
 
 
 def load_run(path):
     with np.load(path) as z:
-        return {k: (str(z[k]) if k == "failure" else z[k]) for k in z.files}
+        return {k: (str(z[k]) if k in ("failure", "code") else z[k]) for k in z.files}
 
 
 def save_run(path, run):
@@ -122,24 +158,39 @@ def budget(sizes, seeds, laws, strain, dgamma, cache, log=print):
 
 
 def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
-    """All runs, from the cache where ``resume`` finds them; {(label, n): [run, ...]}."""
+    """All runs, from the cache where ``resume`` finds them made by this code (:func:`code_hash`;
+    a run of other code is run again); {(label, n): [run, ...]}."""
+    code = code_hash()
     todo = [(n, s, lab) for n, k in zip(sizes, seeds) for s in range(k) for lab, _, _ in laws]
-    done = sum(bool(cache and resume and (cache / f"{_key(n, s, lab, strain, dgamma)}.npz")
-                    .exists()) for n, s, lab in todo)
-    log(f"{done} of {len(todo)} runs done" + (" (resumed)" if done else ""))
+
+    def cached(n, seed, label):
+        path = None if cache is None else cache / f"{_key(n, seed, label, strain, dgamma)}.npz"
+        if path is None or not resume or not path.exists():
+            return path, None
+        r = load_run(path)
+        if r.get("code") != code:
+            log(f"  {path.name}: made by other code ({r.get('code', 'unstamped')}, now {code}); "
+                "run again")
+            return path, None
+        return path, r
+    done = sum(cached(n, s, lab)[1] is not None for n, s, lab in todo)
+    log(f"{done} of {len(todo)} runs done" + (" (resumed)" if done else "") + f"; code {code}")
     runs, packings = {}, {}
     for n, seed, label in todo:
         law, params = next((w, p) for lab, w, p in laws if lab == label)
-        path = None if cache is None else cache / f"{_key(n, seed, label, strain, dgamma)}.npz"
-        if path is not None and resume and path.exists():
-            r = load_run(path)
-        else:
+        path, r = cached(n, seed, label)
+        if r is None:
             if (n, seed) not in packings:
                 packings = {(n, seed): backbone(make_packing(n, 0.9, seed))}
-            r = one_run(packings[(n, seed)], law, params, strain, dgamma)
+            ckpt = None if path is None else cache / f"{path.stem}.{code}.checkpoints"
+            if ckpt is not None and not resume:
+                shutil.rmtree(ckpt, ignore_errors=True)   # afresh: no stale partial path
+            r = one_run(packings[(n, seed)], law, params, strain, dgamma, ckpt)
+            r["code"] = np.str_(code)
             if path is not None:
                 cache.mkdir(parents=True, exist_ok=True)
                 save_run(path, r)
+                shutil.rmtree(ckpt, ignore_errors=True)
             log(f"  N = {n} seed {seed} {label}: {float(r['seconds']):.0f} s"
                 + (f" (stopped: {r['failure']})" if r["failure"] else ""))
         runs.setdefault((label, n), []).append(dict(r, seed=seed))

@@ -94,6 +94,14 @@ def module_hash(rel, root=ROOT):
     return source_hash(path.read_text())
 
 
+def package_files(package="fricstab", root=ROOT, exclude=("cli",)):
+    """The Python files of ``package`` (relative paths, sorted), but those under a folder
+    named in ``exclude``."""
+    base = Path(root)
+    return tuple(sorted(p.relative_to(base).as_posix() for p in (base / package).rglob("*.py")
+                        if not set(p.relative_to(base).parts) & set(exclude)))
+
+
 def file_hash(rel, root=ROOT):
     """Hash of a data file's bytes; 'missing' if it is gone."""
     path = Path(root) / rel

@@ -5,28 +5,34 @@ import math
 
 from .aqs import _aqs_study, _checkout
 from .core import Claim, Result
+from .fingerprint import package_files
 
-HEADING = "Precursors of stress drops: the ranked test"
+HEADING = "Precursors of stress drops: the ranked test, its sizes, sheared dynamics"
 INTRO = ("`validation/precursor_study.py` (how-to: docs/howto/aqs.md, \"The ranked test\"): "
          "AQS with history of the phi = 0.90 backbone to strain 0.2 in steps of 5e-4; per drop, "
          "the normalised mid-rank of each candidate at the onset among the +-25 states around "
          "it; the mean rank against a permutation null (999 permutations, +1 corrected, exact "
          "in level) and the test's power at preceded fractions 0.5 and 0.8 by simulation (400 "
-         "replicates, alpha = 0.05), beside the power of the old birth-window tests.")
+         "replicates, alpha = 0.05), beside the power of the old birth-window tests. "
+         "`validation/precursor_dynamics.py` (how-to: \"Sheared dynamics\"): Newtonian shear "
+         "of the N = 64 backbones by a Lees-Edwards offset at 1e-6 to 1e-3 t0^-1, no damping; "
+         "the non-affine kinetic energy's growth against 2 g of the quasistatic states on the "
+         "dynamic path.")
 
 RANKED_COMMAND = ("python validation/precursor_study.py --sizes 64 --seeds 4 "
-                  "--prefix precursor_study_n64 --cache DIR (strain 0.2, dgamma 5e-4)")
+                  "--prefix precursor_study_n64 --cache validation/.precursor_runs --resume "
+                  "(strain 0.2, dgamma 5e-4)")
 RANKED_LAWS = {"charan": "charan mu=0.1 kt=1", "ishima": "ishima kt=1", "hertz": "hertz"}
 
 
 def ranked_run():
-    """The ranked test at N = 64 (4 seeds, three laws) in a fresh cache (RANKED_COMMAND)."""
-    import tempfile
-
+    """The ranked test at N = 64 (4 seeds, three laws; RANKED_COMMAND), its runs from the
+    persistent cache of :func:`scale_run` where this code made them (the runs are shared)."""
     from fricstab.io.files import json_clean      # NaN (no ranked drop) -> None
     doc = _aqs_study("precursor_study").run(
         ["--sizes", "64", "--seeds", "4", "--prefix", "precursor_study_n64",
-         "--cache", tempfile.mkdtemp(), "--out", str(_checkout() / "validation")])
+         "--cache", str(_checkout() / SCALE_CACHE), "--resume",
+         "--out", str(_checkout() / "validation")])
     keep = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
     rows = {r["law"]: {"drops": r["drops"], "window1_power_0.8": r["window1_power_0.8"],
                        "candidates": {c: {k: t[k] for k in keep}
@@ -106,13 +112,217 @@ def ranked_sentence(v):
     return "; ".join(out)
 
 
-CLAIMS = [Claim(f"precursors.ranked_{law}", "precursors",
+SCALE_SIZES = (64, 128, 256, 512, 1024)
+SCALE_SEEDS = (4, 2, 1, 1, 1)
+SCALE_CACHE = "validation/.precursor_runs"
+SCALE_COMMAND = ("python validation/precursor_study.py --sizes 64 128 256 512 1024 "
+                 f"--seeds 4 2 1 1 1 --cache {SCALE_CACHE} --resume (strain 0.2, dgamma 5e-4; about 10 h on one "
+                 "core, resumable: every run and checkpoint is stamped with the hash of the "
+                 "fricstab modules and reused only under the same code)")
+
+
+def scale_run():
+    """The ranked test at N = 64 to 1,024 (SCALE_COMMAND), in the persistent cache: an
+    interrupted job resumes where it stopped, with runs of this code only."""
+    from fricstab.io.files import json_clean
+    study = _aqs_study("precursor_study")
+    doc = study.run(["--sizes", *map(str, SCALE_SIZES), "--seeds", *map(str, SCALE_SEEDS),
+                     "--cache", str(_checkout() / SCALE_CACHE), "--resume",
+                     "--out", str(_checkout() / "validation")])
+    keep = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
+    rows = {f"{r['law']} N={r['n']}": {
+        "law": r["law"], "n": r["n"], "runs": r["runs"], "drops": r["drops"],
+        "window1_power_0.8": r["window1_power_0.8"],
+        "candidates": {c: {k: t[k] for k in keep} for c, t in r["candidates"].items()}}
+        for r in doc["rows"]}
+    out = ("validation/precursor_study" + x for x in (".md", ".json", ".png"))
+    return Result(json_clean(rows), seeds=tuple(range(max(SCALE_SEEDS))), outputs=tuple(out))
+
+
+def _scale_show(v, label):
+    """Per N: the candidates extreme at the onsets at alpha = 0.05, and the drops."""
+    parts = []
+    for key, r in v.items():
+        if r["law"] != label:
+            continue
+        yes = [f"{c} {t['statistic']:.2f} (p {t['pvalue']:.2g})"
+               for c, t in r["candidates"].items()
+               if t["statistic"] is not None and t["pvalue"] <= 0.05]
+        parts.append(f"N = {r['n']} ({r['drops']} drops): " + (", ".join(yes) or "none"))
+    return "; ".join(parts)
+
+
+def scale_table(v):
+    """Mean onset rank, p, power at f = 0.5 per law, N and candidate."""
+    lines = ["| law | N | runs | drops | " + " | ".join(CANDIDATES) + " |",
+             "|---|---|---|---|" + "---|" * len(CANDIDATES)]
+    for r in v.values():
+        cells = ["no pair" if r["candidates"][c]["statistic"] is None else
+                 f"{r['candidates'][c]['statistic']:.2f}, p {r['candidates'][c]['pvalue']:.2g}, "
+                 "power " + ("-" if r["candidates"][c]["power_0.5"] is None
+                             else f"{r['candidates'][c]['power_0.5']:.2f}") for c in CANDIDATES]
+        lines.append(f"| {r['law']} | {r['n']} | {r['runs']} | {r['drops']} | "
+                     + " | ".join(cells) + " |")
+    return "\n\n" + "\n".join(lines) + "\n\n"
+
+
+CLAIMS = [Claim(f"precursors.scale_{law}", "precursors",
+                f"{law}: ranked test at N = 64 to 1,024 (4, 2, 1, 1, 1 seeds): per N the "
+                "candidates whose onset rank is extreme at alpha = 0.05", "hours",
+                SCALE_COMMAND, scale_run, show=lambda v, label=label: _scale_show(v, label),
+                tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
+                job="precursors.scale", inputs=package_files(root=_checkout()),
+                texts={"table": scale_table} if law == "charan" else {})
+          for law, label in RANKED_LAWS.items()]
+
+CLAIMS += [Claim(f"precursors.ranked_{law}", "precursors",
                 f"{law}: ranked test at N = 64 (4 seeds): mean onset rank in a +-25-state "
                 "window of n_pairs, growth, min_real (high) and pair_min_imag (low), "
                 "permutation p, power at preceded fractions 0.5 / 0.8", "minutes",
                 RANKED_COMMAND, ranked_run, show=lambda v, label=label: _ranked_show(v, label),
                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
-                job="precursors.ranked",
+                job="precursors.ranked", inputs=package_files(root=_checkout()),
                 texts={"table": ranked_table, "answer": ranked_sentence} if law == "charan"
                 else {})
           for law, label in RANKED_LAWS.items()]
+
+
+# ------------------------------------------------------------ item 4: sheared dynamics
+
+DYN_COMMAND = ("python validation/precursor_dynamics.py --cache DIR (N = 64, 2 seeds, rates "
+               "1e-6 to 1e-3 t0^-1, strain 0.2, Newtonian, Lees-Edwards)")
+#: a rate is slow enough for a pair to show when 2 g times one quasistatic interval is >= 1
+#: e-fold of E_na (the rows' two_g_interval)
+SLOW = 1.0
+
+
+def dynamics_run():
+    """The dynamics study in a fresh cache (DYN_COMMAND); per law and rate its row."""
+    import tempfile
+
+    from fricstab.io.files import json_clean
+    doc = _aqs_study("precursor_dynamics").run(
+        ["--cache", tempfile.mkdtemp(), "--out", str(_checkout() / "validation")])
+    rise = {(lab, rate): (dyn, aqs) for lab, rate, dyn, aqs in doc["slopes"]}
+    rows = {f"{r['law']} rate={r['rate']:g}": {
+        **{k: r[k] for k in ("law", "rate", "runs", "drops", "pairs_fraction", "g_median",
+                             "two_g_interval", "e_na_median", "episodes", "ratio_median",
+                             "largest", "pre_measured", "pre_predicted")},
+        "test": {k: r["test"][k] for k in ("statistic", "null_sd", "pvalue", "drops",
+                                           "power_0.5")},
+        "rise_dynamics": rise[(r["law"], r["rate"])][0],
+        "rise_aqs": rise[(r["law"], r["rate"])][1]} for r in doc["rows"]}
+    out = ("validation/precursor_dynamics" + x for x in (".md", ".json", ".png"))
+    return Result(json_clean(rows), seeds=tuple(range(doc["seeds"])), outputs=tuple(out))
+
+
+def _check_dynamics(a, b):
+    """Deterministic on one machine; on another CPU the chaotic dynamics after the first
+    instability moves: each row's drop count within 4 sqrt(drops) + 2 (Poisson), its mean
+    onset rank within 3 combined null sd, each largest episode's e-folds within 30 % + 1 and
+    r / 2g within 30 % (the first growth, before the trajectories part), the stress rise
+    before any drop within 1e-6 relative (rounding)."""
+    worst = (0.0, "identical")
+    for key, x in a.items():
+        y = b.get(key)
+        if y is None:
+            return False, f"{key}: missing"
+        if abs(x["drops"] - y["drops"]) > 4 * math.sqrt(max(x["drops"], 1)) + 2:
+            return False, f"{key}: drops {x['drops']} -> {y['drops']}"
+        s, t = x["test"], y["test"]
+        if (s["statistic"] is None) != (t["statistic"] is None):
+            return False, f"{key}: rank {s['statistic']} -> {t['statistic']}"
+        if s["statistic"] is not None:
+            d = abs(s["statistic"] - t["statistic"]) / (math.hypot(s["null_sd"], t["null_sd"])
+                                                       or 1e-12)
+            if d > 3:
+                return False, f"{key}: rank {s['statistic']:.3f} -> {t['statistic']:.3f}"
+            worst = max(worst, (d, f"largest rank move {d:.2f} null sd ({key})"),
+                        key=lambda w: w[0])
+        for (e1, r1, _), (e2, r2, _) in zip(x["largest"], y["largest"]):
+            if abs(e1 - e2) > 0.3 * abs(e1) + 1 or abs(r1 - r2) > 0.3 * abs(r1):
+                return False, f"{key}: largest episode {e1:.2f} ({r1:.2f}) -> {e2:.2f} ({r2:.2f})"
+        if abs(x["rise_dynamics"] - y["rise_dynamics"]) > 1e-6 * abs(x["rise_dynamics"]):
+            return False, f"{key}: stress rise {x['rise_dynamics']} -> {y['rise_dynamics']}"
+    return True, worst[1]
+
+
+def _dyn_show(v, label):
+    """Per rate: drops, the largest growth episode and r / 2g, the ranked test."""
+    parts = []
+    for r in v.values():
+        if r["law"] != label:
+            continue
+        big = max(r["largest"], default=None)
+        t = r["test"]
+        parts.append(f"rate {r['rate']:g}: {r['drops']} drops; largest growth "
+                     + ("none" if big is None else f"{big[0]:.1f} e-folds (r / 2g {big[1]:.2f})")
+                     + ("" if t["statistic"] is None else
+                        f"; onset rank {t['statistic']:.2f} (p {t['pvalue']:.2g})"))
+    return "; ".join(parts)
+
+
+def dynamics_table(v):
+    """Per law and rate: the growth of E_na against 2 g, before drops, the ranked test."""
+    lines = ["| law | rate (t0^-1) | drops | states with a pair | 2 g x interval (e-folds) | "
+             "largest growth per run: e-folds (r / 2g) | E_na e-folds before a drop: measured "
+             "/ predicted | onset rank (p, power f = 0.5) |", "|" + "---|" * 8]
+    for r in v.values():
+        t = r["test"]
+        lines.append(
+            f"| {r['law']} | {r['rate']:g} | {r['drops']} | {r['pairs_fraction']:.2f} | "
+            f"{r['two_g_interval']:.3g} | "
+            + (", ".join(f"{a:.1f} ({b:.2f})" for a, b, _ in r["largest"]) or "none") + " | "
+            + ("-" if r["pre_measured"] is None else
+               f"{r['pre_measured']:.2f} / {r['pre_predicted']:.2f}") + " | "
+            + ("-" if t["statistic"] is None else
+               f"{t['statistic']:.2f} (p {t['pvalue']:.2g}, "
+               + ("-" if t["power_0.5"] is None else f"{t['power_0.5']:.2f}") + ")") + " |")
+    return "\n\n" + "\n".join(lines) + "\n\n"
+
+
+def dynamics_rise(v):
+    """Per law: the stress rise over strain 0-0.005, dynamics / AQS, its range over rates."""
+    out = []
+    for law, label in RANKED_LAWS.items():
+        q = [r["rise_dynamics"] / r["rise_aqs"] for r in v.values() if r["law"] == label]
+        out.append(f"{law} {min(q):.3f}-{max(q):.3f}")
+    return "; ".join(out)
+
+
+def dynamics_answer(v, law):
+    """The answer for one law, computed: at the slow rates (2 g x interval >= SLOW), do the
+    modes grow (largest episode >= 5 e-folds), at what fraction of 2 g, and are drops preceded
+    (ranked p <= 0.05)?"""
+    label = RANKED_LAWS[law]
+    slow = [r for r in v.values() if r["law"] == label and r["two_g_interval"] >= SLOW]
+    if not slow:
+        return (f"{law}: no rate slow enough for a pair to grow by one e-fold per interval "
+                "(no pairs, or all rates fast)")
+    big = [e for r in slow for e in r["largest"]]
+    grew = [e for e in big if e[0] >= 5]
+    ps = [r["test"]["pvalue"] for r in slow if r["test"]["pvalue"] is not None]
+    rates = ", ".join(f"{r['rate']:g}" for r in slow)
+    return (f"{law}: at rates {rates} t0^-1 "
+            + (f"E_na grows by {min(e[0] for e in grew):.0f}-{max(e[0] for e in grew):.0f} "
+               f"e-folds at {min(e[1] for e in grew):.2f}-{max(e[1] for e in grew):.2f} of the "
+               "quasistatic 2 g" if grew else "no mode grows by 5 e-folds")
+            + "; growth before drops: "
+            + ("no drop ranked" if not ps else
+               f"onset-rank p {', '.join(f'{p:.2g}' for p in ps)}"))
+
+
+def _dyn_claim(law):
+    label = RANKED_LAWS[law]
+    return Claim(f"precursors.dynamics_{law}", "precursors",
+                 f"{law}: Newtonian shear at 1e-6 to 1e-3 t0^-1 (N = 64, 2 seeds): the "
+                 "non-affine kinetic energy's growth against 2 g of the quasistatic states on "
+                 "the dynamic path, before drops and at any time", "minutes", DYN_COMMAND,
+                 dynamics_run, show=lambda v: _dyn_show(v, label),
+                 tolerance=" ".join(_check_dynamics.__doc__.split()), check=_check_dynamics,
+                 job="precursors.dynamics",
+                 texts={"answer": lambda v: dynamics_answer(v, law), "rise": dynamics_rise,
+                        **({"table": dynamics_table} if law == "charan" else {})})
+
+
+CLAIMS += [_dyn_claim(law) for law in RANKED_LAWS]
