@@ -73,6 +73,8 @@ EPISODE_MIN = 3       # consecutive growing intervals that make a growth episode
 GROW_MIN = 0.01       # e-folds of E_na in an interval that count as growth (1 %; a steady
                       # E_na fits to ~1e-16, the driven fluctuations to ~0.1-1)
 LEAD = 5              # intervals before a drop over which the growth of E_na is summed
+T_SKIP = 50.0         # t0: intervals ending before it are the start's transient (the affine
+                      # start settles in a few sound crossings of the cell, L / c ~ 7 t0)
 
 
 def sheared(fr, rate, strain, log=print):
@@ -170,10 +172,12 @@ def analyse(runs, half_width, n_perm, n_rep, seed=0):
     """Per (law, rate): drops, growth episodes against 2 g, growth before drops, ranked test."""
     rows = []
     for i, ((label, rate), rs) in enumerate(runs.items()):
-        ratios, amps, drops, pre_m, pre_p, paths = [], [], 0, [], [], []
+        ratios, amps, drops, pre_m, pre_p, paths, firsts = [], [], 0, [], [], [], []
         for r in rs:
             r = dict(r, rate=rate)
             rr = interval_rates(r)
+            t_end = r["time"][::QS_EVERY][:len(rr)] + QS_EVERY * REC_STRAIN / rate
+            rr[t_end < T_SKIP] = np.nan      # the start's transient
             two_g = 2 * r["qs_growth"][:len(rr)]
             ep = []
             for a, b in episodes(rr, QS_EVERY * REC_STRAIN / rate):
@@ -187,6 +191,8 @@ def analyse(runs, half_width, n_perm, n_rep, seed=0):
             drops += len(d)
             on = [x.step - 1 for x in d]       # the last interval before the stress falls
             m, p = pre_drop_growth(r, rr)
+            if on:       # the first drop: strain, e-folds before it measured / predicted
+                firsts.append([float(r["qs_strain"][on[0]]), float(m[on[0]]), float(p[on[0]])])
             pre_m += [m[o] for o in on if np.isfinite(m[o])]
             pre_p += [p[o] for o in on if np.isfinite(p[o])]
             paths.append((m, on))
@@ -207,6 +213,7 @@ def analyse(runs, half_width, n_perm, n_rep, seed=0):
             "episodes": len(ratios), "ratio_median": q(ratios, 50),
             "ratio_q": [q(ratios, 25), q(ratios, 75)],
             "largest": [list(x) for x in amps],     # per run: e-folds, r / 2g, start strain
+            "first_drop": firsts,     # per run: onset strain, e-folds before, predicted
             "pre_measured": q(pre_m, 50), "pre_predicted": q(pre_p, 50),
             "seconds": float(sum(r["seconds"] for r in rs)), "test": t})
     return rows
@@ -222,8 +229,9 @@ def tables(rows, slopes):
              "2 g x interval (e-folds) | median E_na (k_N d^5/2) | growth episodes | "
              f"r / 2g in episodes, median [IQR] | largest episode per run: e-folds at strain "
              f"(r / 2g) | E_na e-folds in "
-             f"the {LEAD} intervals before a drop: measured / predicted (medians) | rank at "
-             "onsets (p) | power f = 0.5 |", "|" + "---|" * 14]
+             f"the {LEAD} intervals before a drop: measured / predicted (medians) | first drop "
+             "per run: strain, e-folds before it (predicted) | rank at onsets (p) | power "
+             "f = 0.5 |", "|" + "---|" * 15]
     for r in rows:
         t = r["test"]
         lines.append(
@@ -235,7 +243,9 @@ def tables(rows, slopes):
             + ", ".join(f"{a:.1f} at {c:.3f} (r / 2g {b:.2f})" for a, b, c in r["largest"])
             + " | "
             f"{_g(r['pre_measured'])} / {_g(r['pre_predicted'])} | "
-            f"{_g(t['statistic'])} ({_g(t['pvalue'], '{:.3g}')}) | {_g(t['power_0.5'])} |")
+            + ", ".join(f"{a:.4f}: {_g(b, '{:.1f}')} ({_g(c, '{:.1f}')})"
+                        for a, b, c in r["first_drop"])
+            + f" | {_g(t['statistic'])} ({_g(t['pvalue'], '{:.3g}')}) | {_g(t['power_0.5'])} |")
     lines += ["", "| law | rate (t0^-1) | stress rise over strain 0-0.005, dynamics "
               "(k_N d^-1/2) | the same, AQS path (affine step at frozen history) | "
               "dynamics / AQS |", "|---|---|---|---|---|"]
