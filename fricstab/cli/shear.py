@@ -149,6 +149,8 @@ def add_parser(sub, parser_class, positive_float):
     s.required = True
     _scene_options(s.add_parser("run", help="prepare and shear the cell; frames, tau(strain)"),
                    checkpoints=True)
+    from fricstab.cli.shear_sweep import add_sweep_parser
+    add_sweep_parser(s, _scene_options, positive_float)
     add_analyze_parsers(s)
     _scene_options(s.add_parser("jacobian", help="a relaxed state with the walls clamped and "
                                 "its Jacobian (state.npz, jacobian.npz, dofs.json, mass.npy)"),
@@ -454,6 +456,10 @@ def run(ns, argv=None):
     try:
         if ns.shear_command in ("run", "jacobian"):
             return _run(ns, argv)
+        if ns.shear_command == "sweep":
+            from fricstab.cli.shear_sweep import sweep
+            return sweep(ns, argv, {"run_shear": run_shear, "resolve_params": resolve_params,
+                                    "skip": _SKIP})
         if ns.shear_command == "export":
             return shear_analyze.export(ns)
         return shear_analyze.analyze(ns, argv)
