@@ -23,7 +23,8 @@ Per law and rate:
 * ``r``: the growth rate of ``E_na`` over each 5-record interval (least squares of ``ln E_na``
   against time), beside ``2 g`` of the quasistatic state at the interval's start: a mode that
   grows as ``exp(g t)`` in amplitude grows as ``exp(2 g t)`` in energy; growth episodes (at
-  least ``EPISODE_MIN`` consecutive intervals with ``r dt > GROW_MIN``), their e-folds and ``r / 2g``;
+  least ``EPISODE_MIN`` consecutive intervals with ``r dt > GROW_MIN``), their e-folds and
+  ``r / 2g``;
 * stress drops located in strain (time = strain / rate) on the interval-mean stress (the AQS
   step's resolution; elastic oscillations averaged out) by
   :func:`fricstab.analysis.aqs.detect_drops` with the AQS threshold;

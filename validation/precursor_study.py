@@ -55,16 +55,41 @@ SLOW_HOURS = 12.0   # a projection above this is reported as too slow for one si
 CHECKPOINT_EVERY = 10   # strain steps between a path's checkpoints (N = 1,024: ~3 min)
 
 
-def code_hash(root=HERE.parent):
-    """The hash of the code a run depends on: every module of ``fricstab`` but the CLI (syntax
-    trees without docstrings, :func:`claims.fingerprint.module_hash`).  A cached run or a
-    checkpoint is reused only under the same hash, so ``--resume`` never mixes code."""
+def _fingerprint():
+    """:mod:`claims.fingerprint` (the registry's dependence tracking)."""
     sys.path.insert(0, str(HERE))
-    from claims.fingerprint import module_hash, package_files
+    import claims.fingerprint as fp
+    return fp
+
+
+def code_hash(root=HERE.parent):
+    """The hash of every module of ``fricstab`` but the CLI (syntax trees without docstrings):
+    the stamp of a run whose executed code could not be traced, and of older runs."""
+    fp = _fingerprint()
     digest = hashlib.sha256()
-    for rel in package_files(root=root):
-        digest.update(f"{rel}:{module_hash(rel, root)}\n".encode())
+    for rel in fp.package_files(root=root):
+        digest.update(f"{rel}:{fp.module_hash(rel, root)}\n".encode())
     return digest.hexdigest()[:16]
+
+
+def fresh(stamp):
+    """Whether a run or checkpoint stamped ``stamp`` (its ``units`` and ``code``) was made by
+    the code of the checkout: every function it executed unchanged (``units``,
+    :func:`claims.fingerprint.code_units`), or, without them, every fricstab module."""
+    units = str(stamp.get("units", ""))
+    if units:
+        return not _fingerprint().units_changed(json.loads(units))
+    return str(stamp.get("code", "")) == code_hash()
+
+
+def _merge(a, b):
+    """The union of two ``code_units`` (None: untraced, stays None)."""
+    if a is None or b is None:
+        return None
+    out = {m: dict(u) for m, u in a.items()}
+    for m, u in b.items():
+        out.setdefault(m, {}).update(u)
+    return out
 
 
 def _key(n, seed, label, strain, dgamma):
@@ -72,41 +97,61 @@ def _key(n, seed, label, strain, dgamma):
 
 
 def one_run(bb, law, params, strain, dgamma, ckpt_dir=None, every=CHECKPOINT_EVERY):
-    """One AQS path: the per-state series, the births (step resolution), the wall time.
+    """One AQS path: the per-state series, the births (step resolution), the wall time, and
+    the stamp of the code that made it (``units``: the functions it executed, :func:`fresh`).
 
     ``ckpt_dir``: the path is checkpointed there every ``every`` steps and continued from its
-    latest checkpoint (bit-identically, :func:`run_aqs`); the seconds add up over sittings.
+    latest checkpoint (bit-identically, :func:`run_aqs`) when that was made by this code; the
+    seconds and the executed code add up over sittings.
     """
+    fp = _fingerprint()
     fr = frictional(bb, material(law, **params))
     ck = resume = None
-    spent = 0.0
+    spent, prior = 0.0, {}
     if ckpt_dir is not None:
         from fricstab.io.checkpoint import Checkpointer
         ck = Checkpointer(ckpt_dir, {"law": law, "params": params, "strain": strain,
                                      "dgamma": dgamma, "n": int(fr.system.n)})
         resume = ck.latest()
+        if resume is not None and "code" not in resume and (ckpt_dir / "code").exists():
+            resume["code"] = (ckpt_dir / "code").read_text()     # adopted (_adopt)
+        if resume is not None and not fresh(resume):
+            print(f"    {ckpt_dir.name}: made by other code; started afresh", flush=True)
+            shutil.rmtree(ckpt_dir, ignore_errors=True)
+            resume = None
         if resume is not None:
             spent = float(resume.pop("seconds_so_far"))
-            resume.pop("path")
+            units = str(resume.pop("units", ""))
+            prior = json.loads(units) if units else None
+            for k in ("path", "code"):
+                resume.pop(k, None)
     t0 = time.perf_counter()
+    code = code_hash()
+
+    def stamp():
+        units = _merge(prior, fp.code_units(tracer))
+        return {"units": np.str_("" if units is None else json.dumps(units)),
+                "code": np.str_(code)}
 
     def save(k, arrays):
         now = spent + time.perf_counter() - t0
-        ck.save(k, seconds_so_far=np.float64(now), **arrays)
+        ck.save(k, seconds_so_far=np.float64(now), **stamp(), **arrays)
         print(f"    N = {fr.system.n} {law}: step {k} checkpointed ({now:.0f} s)", flush=True)
-    res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False, on_failure="stop",
-                  resume=resume, checkpoint=None if ck is None else save,
-                  checkpoint_every=every if ck is not None else 0)
+    with fp.Tracer() as tracer:
+        res = run_aqs(fr.system, fr.state, strain, dgamma, locate_events=False,
+                      on_failure="stop", resume=resume, checkpoint=None if ck is None else save,
+                      checkpoint_every=every if ck is not None else 0)
     out = {name: np.asarray(getattr(res, name), float) for name in SERIES}
     out["births"] = np.array([e.gamma for e in res.events if e.kind == "birth"], float)
     out["seconds"] = np.float64(spent + time.perf_counter() - t0)
     out["failure"] = np.str_(res.failure or "")
+    out.update(stamp())
     return out
 
 
 def load_run(path):
     with np.load(path) as z:
-        return {k: (str(z[k]) if k in ("failure", "code") else z[k]) for k in z.files}
+        return {k: (str(z[k]) if k in ("failure", "code", "units") else z[k]) for k in z.files}
 
 
 def save_run(path, run):
@@ -130,17 +175,37 @@ def probe(n, steps=3, dgamma=5e-4):
     return (time.perf_counter() - t0) / (steps + 1), t_spec
 
 
-def budget(sizes, seeds, laws, strain, dgamma, cache, log=print):
+def _partial(cache, n):
+    """(seconds per state, steps) over the latest checkpoints of runs of size ``n`` in progress,
+    or None."""
+    secs = steps = 0.0
+    for d in cache.glob(f"n{n}_s*.checkpoints"):
+        files = sorted(d.glob("ckpt_*.npz"))
+        try:
+            with np.load(files[-1]) as z:       # an estimate only: no checksum needed
+                secs, steps = secs + float(z["seconds_so_far"]), steps + int(z["step"])
+        except (IndexError, OSError, KeyError, ValueError):
+            continue
+    return (secs / steps, int(steps)) if steps else None
+
+
+def budget(sizes, seeds, laws, strain, dgamma, cache, log=print, probe_new=True):
     """Print the measured seconds per state per N and the projected compute; return it."""
     states = int(np.floor(strain / dgamma + 1e-9)) + 1
     total, out = 0.0, []
     for n, n_seeds in zip(sizes, seeds):
         done = sorted(cache.glob(f"n{n}_s*_{strain:g}_{dgamma:g}.npz")) if cache else []
+        partial = _partial(cache, n) if cache and not done else None
         if done:
             runs = [load_run(p) for p in done]
             per, spec, how = (sum(float(r["seconds"]) for r in runs)
                               / sum(len(r["strain"]) for r in runs), float("nan"),
                               f"{len(done)} cached runs")
+        elif partial is not None:
+            per, spec, how = partial[0], float("nan"), f"{partial[1]} steps checkpointed"
+        elif not probe_new:
+            log(f"N = {n}: not measured (--no-probe)")
+            continue
         else:
             per, spec = probe(n)
             how = "3-step probe, charan"
@@ -158,9 +223,8 @@ def budget(sizes, seeds, laws, strain, dgamma, cache, log=print):
 
 
 def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
-    """All runs, from the cache where ``resume`` finds them made by this code (:func:`code_hash`;
+    """All runs, from the cache where ``resume`` finds them made by this code (:func:`fresh`;
     a run of other code is run again); {(label, n): [run, ...]}."""
-    code = code_hash()
     todo = [(n, s, lab) for n, k in zip(sizes, seeds) for s in range(k) for lab, _, _ in laws]
 
     def cached(n, seed, label):
@@ -168,13 +232,12 @@ def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
         if path is None or not resume or not path.exists():
             return path, None
         r = load_run(path)
-        if r.get("code") != code:
-            log(f"  {path.name}: made by other code ({r.get('code', 'unstamped')}, now {code}); "
-                "run again")
+        if not fresh(r):
+            log(f"  {path.name}: made by other code; run again")
             return path, None
         return path, r
     done = sum(cached(n, s, lab)[1] is not None for n, s, lab in todo)
-    log(f"{done} of {len(todo)} runs done" + (" (resumed)" if done else "") + f"; code {code}")
+    log(f"{done} of {len(todo)} runs done" + (" (resumed)" if done else ""))
     runs, packings = {}, {}
     for n, seed, label in todo:
         law, params = next((w, p) for lab, w, p in laws if lab == label)
@@ -182,11 +245,12 @@ def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
         if r is None:
             if (n, seed) not in packings:
                 packings = {(n, seed): backbone(make_packing(n, 0.9, seed))}
-            ckpt = None if path is None else cache / f"{path.stem}.{code}.checkpoints"
-            if ckpt is not None and not resume:
-                shutil.rmtree(ckpt, ignore_errors=True)   # afresh: no stale partial path
+            ckpt = None if path is None else cache / f"{path.stem}.checkpoints"
+            if ckpt is not None:
+                _adopt(cache, path.stem, ckpt)
+                if not resume:
+                    shutil.rmtree(ckpt, ignore_errors=True)   # afresh: no partial path
             r = one_run(packings[(n, seed)], law, params, strain, dgamma, ckpt)
-            r["code"] = np.str_(code)
             if path is not None:
                 cache.mkdir(parents=True, exist_ok=True)
                 save_run(path, r)
@@ -195,6 +259,19 @@ def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
                 + (f" (stopped: {r['failure']})" if r["failure"] else ""))
         runs.setdefault((label, n), []).append(dict(r, seed=seed))
     return runs
+
+
+def _adopt(cache, stem, ckpt):
+    """Checkpoints of the first stamped layout (``<stem>.<code hash>.checkpoints``): moved to
+    ``ckpt`` if the hash is this code's, removed otherwise."""
+    for old in cache.glob(f"{stem}.*.checkpoints"):
+        if old == ckpt:
+            continue
+        if old.name == f"{stem}.{code_hash()}.checkpoints" and not ckpt.exists():
+            (old / "code").write_text(code_hash())     # its name was its stamp
+            old.rename(ckpt)
+        else:
+            shutil.rmtree(old, ignore_errors=True)
 
 
 def _old_runs(runs):
@@ -304,6 +381,8 @@ def run(argv=None):
     ap.add_argument("--n-perm", type=int, default=999)
     ap.add_argument("--n-rep", type=int, default=400, help="replicates per power estimate")
     ap.add_argument("--budget-only", action="store_true", help="print the projection, stop")
+    ap.add_argument("--no-probe", action="store_true",
+                    help="project only from cached runs and checkpoints (no 3-step probe)")
     ap.add_argument("--out", type=Path, default=HERE)
     ap.add_argument("--prefix", default="precursor_study")
     a = ap.parse_args(argv)
@@ -312,7 +391,8 @@ def run(argv=None):
         ap.error("--seeds needs one count per size")
     laws = [x for x in LAWS if a.laws is None or x[1] in a.laws]
     t0 = time.perf_counter()
-    bud = budget(a.sizes, seeds, laws, a.strain, a.dgamma, a.cache if a.resume else None)
+    bud = budget(a.sizes, seeds, laws, a.strain, a.dgamma, a.cache if a.resume else None,
+                 probe_new=not a.no_probe)
     if a.budget_only:
         return {"budget": bud}
     runs = collect(a.sizes, seeds, laws, a.strain, a.dgamma, a.cache, a.resume)

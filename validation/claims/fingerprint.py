@@ -435,6 +435,44 @@ def fingerprint(claim, root=ROOT, tracer=None):
     return fp
 
 
+def code_units(tracer, root=ROOT, skip=("fricstab/cli/",)):
+    """The dependence of a cached computation that ran under ``tracer``: ``{module: {unit:
+    hash}}`` of the checkout code it executed (a numba module whole, as ``"*"``), modules
+    under a prefix in ``skip`` left out; None where the tracer could not see every call
+    (then only a hash of whole modules is safe).  Compare later with :func:`units_changed`."""
+    if tracer.spawned or tracer.lost:
+        return None
+    ran = ran_units(tracer.codes.values(), root)
+    out = {}
+    for m in sorted(loaded_modules(root) | set(ran)):
+        if m.startswith(tuple(skip)) or not (Path(root) / m).exists():
+            continue
+        text = (Path(root) / m).read_text()
+        if whole_module(m, text):
+            out[m] = {"*": source_hash(text)}
+            continue
+        hashes = unit_hashes(text)
+        # a validation script's own frame (its tables, constants) is not the computation's
+        frame = set() if m.startswith("validation/") else {FRAME}
+        out[m] = {u: hashes[u] for u in sorted(ran.get(m, set()) | frame) if u in hashes}
+    return out
+
+
+def units_changed(units, root=ROOT):
+    """The modules of ``units`` (from :func:`code_units`) whose executed code changed since."""
+    out = []
+    for m, old in units.items():
+        path = Path(root) / m
+        if not path.exists():
+            out.append(m)
+            continue
+        text = path.read_text()
+        new = {"*": source_hash(text)} if "*" in old else unit_hashes(text)
+        if any(new.get(u, "missing") != h for u, h in old.items()):
+            out.append(m)
+    return out
+
+
 def changes(fp, root=ROOT):
     """What changed since fingerprint ``fp`` was taken: a list of paths (empty: fresh);
     a function-level change names the module and the functions."""

@@ -116,14 +116,14 @@ SCALE_SIZES = (64, 128, 256, 512, 1024)
 SCALE_SEEDS = (4, 2, 1, 1, 1)
 SCALE_CACHE = "validation/.precursor_runs"
 SCALE_COMMAND = ("python validation/precursor_study.py --sizes 64 128 256 512 1024 "
-                 f"--seeds 4 2 1 1 1 --cache {SCALE_CACHE} --resume (strain 0.2, dgamma 5e-4; about 10 h on one "
-                 "core, resumable: every run and checkpoint is stamped with the hash of the "
-                 "fricstab modules and reused only under the same code)")
+                 f"--seeds 4 2 1 1 1 --cache {SCALE_CACHE} --resume (strain 0.2, dgamma 5e-4; "
+                 "about 10 h on one core, resumable: every run and checkpoint is stamped with "
+                 "the code it executed and reused only while that code is unchanged)")
 
 
 def scale_run():
     """The ranked test at N = 64 to 1,024 (SCALE_COMMAND), in the persistent cache: an
-    interrupted job resumes where it stopped, with runs of this code only."""
+    interrupted job resumes where it stopped, with runs of unchanged executed code only."""
     from fricstab.io.files import json_clean
     study = _aqs_study("precursor_study")
     doc = study.run(["--sizes", *map(str, SCALE_SIZES), "--seeds", *map(str, SCALE_SEEDS),

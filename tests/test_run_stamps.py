@@ -1,0 +1,86 @@
+"""The code stamp of a cached long computation (``claims.fingerprint.code_units`` and
+``units_changed``, used by ``validation/precursor_study.py``): a cached run is reused only while
+every function it executed is unchanged."""
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+VALIDATION = Path(__file__).resolve().parents[1] / "validation"
+sys.path.insert(0, str(VALIDATION))
+
+from claims import fingerprint as fp  # noqa: E402
+
+SOURCE = '''"""A module of a toy checkout."""
+SCALE = 2.0
+
+
+def used(x):
+    return SCALE * x
+
+
+def unused(x):
+    return x - 1
+'''
+
+
+@pytest.fixture
+def toy(tmp_path, monkeypatch):
+    (tmp_path / "fricstab").mkdir()
+    path = tmp_path / "fricstab" / "toy_mod.py"
+    path.write_text(SOURCE)
+    spec = importlib.util.spec_from_file_location("toy_mod_for_stamps", path)
+    mod = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, "toy_mod_for_stamps", mod)
+    spec.loader.exec_module(mod)
+    return tmp_path, path, mod
+
+
+def _stamp(root, mod):
+    with fp.Tracer() as tracer:
+        assert mod.used(3.0) == 6.0
+    return fp.code_units(tracer, root)
+
+
+def test_the_stamp_holds_what_ran_and_the_module_frame(toy):
+    root, _, mod = toy
+    units = _stamp(root, mod)
+    assert set(units) == {"fricstab/toy_mod.py"}
+    assert set(units["fricstab/toy_mod.py"]) == {"used", fp.FRAME}
+    assert json.loads(json.dumps(units)) == units        # stored as JSON in a run
+
+
+@pytest.mark.parametrize("edit, stale", [
+    (lambda s: s.replace("return x - 1", "return x - 2"), False),     # a function not run
+    (lambda s: s.replace('"""A module', '"""The module'), False),     # a docstring
+    (lambda s: s.replace("SCALE * x", "SCALE * x * 1.0"), True),      # the function run
+    (lambda s: s.replace("SCALE = 2.0", "SCALE = 3.0"), True),        # the module's frame
+])
+def test_only_a_change_of_the_executed_code_stales_the_stamp(toy, edit, stale):
+    root, path, mod = toy
+    units = _stamp(root, mod)
+    assert fp.units_changed(units, root) == []
+    path.write_text(edit(SOURCE))
+    assert fp.units_changed(units, root) == (["fricstab/toy_mod.py"] if stale else [])
+
+
+def test_a_removed_module_stales_the_stamp(toy):
+    root, path, mod = toy
+    units = _stamp(root, mod)
+    path.unlink()
+    assert fp.units_changed(units, root) == ["fricstab/toy_mod.py"]
+
+
+def test_precursor_runs_are_fresh_only_under_their_stamp():
+    spec = importlib.util.spec_from_file_location("precursor_study_for_stamps",
+                                                  VALIDATION / "precursor_study.py")
+    ps = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ps)
+    assert ps.fresh({"code": ps.code_hash()})
+    assert not ps.fresh({"code": "0" * 16})
+    assert not ps.fresh({})
+    gone = {"fricstab/no_such_module.py": {"f": "0" * 16}}
+    assert not ps.fresh({"units": json.dumps(gone), "code": ps.code_hash()})   # units decide
