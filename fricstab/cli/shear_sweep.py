@@ -50,6 +50,7 @@ MAX_SEEDS = 10_000
 
 def add_sweep_parser(sub, scene_options, positive_float):
     """Register ``sweep`` on the ``shear`` subparsers, with the scene options of ``run``."""
+    from fricstab.cli.imports import _int_in as _count    # an integer in [low, high]
     r = sub.add_parser("sweep", help="the mu_s sweep (Sec. 4): one shear run and analysis "
                        "per mu_s and seed, as a dask ensemble",
                        description="One shear run and its analysis per (mu_s, seed) on "
@@ -161,21 +162,6 @@ def _member_params(ns, mus, seed, shear):
     labels.update({"mus": "--mus", "seed": "--seed"})
     return shear["resolve_params"](ns.scene, ns.preset,
                                    {**overrides, **laws, "seed": seed, "mus": mus}, labels)
-
-
-def _count(low, high):
-    """An integer in [low, high] (argparse type)."""
-    import argparse
-
-    def parse(text):
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"must be an integer, got {text!r}") from None
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"must be in [{low}, {high}], got {text!r}")
-        return value
-    return parse
 
 
 def _check(ns):
