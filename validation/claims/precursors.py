@@ -247,10 +247,16 @@ def _check_dynamics(a, b):
     return True, worst[1]
 
 
+def _by_law_and_rate(v):
+    """The rows in the order of RANKED_LAWS, by rate (the record's keys sort as text)."""
+    order = list(RANKED_LAWS.values())
+    return sorted(v.values(), key=lambda r: (order.index(r["law"]), r["rate"]))
+
+
 def _dyn_show(v, label):
     """Per rate: drops, the largest growth episode and r / 2g, the ranked test."""
     parts = []
-    for r in v.values():
+    for r in _by_law_and_rate(v):
         if r["law"] != label:
             continue
         big = max(r["largest"], default=None)
@@ -268,7 +274,7 @@ def dynamics_table(v):
              "largest growth per run: e-folds (r / 2g) | median E_na (k_N d^5/2) | first drop "
              "per run: strain, E_na e-folds before it (predicted) | onset rank of the growth, "
              "all drops (p, power f = 0.5) |", "|" + "---|" * 9]
-    for r in v.values():
+    for r in _by_law_and_rate(v):
         t = r["test"]
         lines.append(
             f"| {r['law']} | {r['rate']:g} | {r['drops']} | {r['pairs_fraction']:.2f} | "
@@ -287,7 +293,8 @@ def dynamics_rise(v):
     """Per law: the stress rise over strain 0-0.005, dynamics / AQS, its range over rates."""
     out = []
     for law, label in RANKED_LAWS.items():
-        q = [r["rise_dynamics"] / r["rise_aqs"] for r in v.values() if r["law"] == label]
+        q = [r["rise_dynamics"] / r["rise_aqs"] for r in _by_law_and_rate(v)
+             if r["law"] == label]
         out.append(f"{law} {min(q):.3f}-{max(q):.3f}")
     return "; ".join(out)
 
@@ -302,14 +309,14 @@ def dynamics_answer(v, law):
     growth of E_na per run and its rate against 2 g, where E_na settles, the growth before each
     run's first drop (measured, predicted), and the ranked test over all drops."""
     label = RANKED_LAWS[law]
-    rows = [r for r in v.values() if r["law"] == label]
+    rows = sorted((r for r in v.values() if r["law"] == label), key=lambda r: r["rate"])
     slow = [r for r in rows if r["two_g_interval"] >= SLOW]
     if not slow:
         return (f"{law}: no quasistatic pair could grow by an e-fold of E_na in one interval "
                 f"at any rate (median g {max(r['g_median'] for r in rows):.2g} t0^-1)"
                 + "; before each run's first drop E_na grew by "
                 + ", ".join(_num(m) for r in rows[:1] for _, m, _ in r["first_drop"])
-                + f" e-folds at rate {rows[0]['rate']:g} t0^-1")
+                + f" e-folds at the slowest rate, {rows[0]['rate']:g} t0^-1")
     out = []
     for r in slow:
         big = ", ".join(f"{e:.1f} e-folds at {q:.2f} of 2 g" for e, q, _ in r["largest"])
