@@ -270,24 +270,32 @@ def aqs_rise(n, seed, law, params, upto=0.005, dgamma=5e-4):
 
 
 def figure(runs, path):
-    """Stress (drops marked) and E_na against strain, first seed, per law and rate."""
+    """Per law (row pairs) and rate (columns), first seed: the interval-mean stress with the
+    drops the analysis locates (red), and E_na (log) with the quasistatic 2 g e-folds."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    keys = list(runs)
-    fig, ax = plt.subplots(2, len(keys), figsize=(2.6 * len(keys), 5), squeeze=False)
-    for c, key in enumerate(keys):
-        r = runs[key][0]
-        ax[0, c].plot(r["strain"], r["stress"], lw=0.6)
-        for d in detect_drops(r["strain"], r["stress"]):
-            ax[0, c].axvline(d.gamma, color="r", lw=0.3)
-        ax[0, c].set_title(f"{key[0]}\nrate {key[1]:g} t0^-1", fontsize=7)
-        ax[1, c].semilogy(r["strain"][1:], r["e_na"][1:], lw=0.6, label="E_na")
-        ax[1, c].set_xlabel("strain")
-    ax[0, 0].set_ylabel("sigma_xy (k_N d^-1/2)")
-    ax[1, 0].set_ylabel("E_na (k_N d^5/2)")
+    labels = list(dict.fromkeys(k[0] for k in runs))
+    rates = sorted({k[1] for k in runs})
+    fig, ax = plt.subplots(2 * len(labels), len(rates), figsize=(3.0 * len(rates),
+                           2.0 * 2 * len(labels)), squeeze=False, sharex=True)
+    for i, label in enumerate(labels):
+        for c, rate in enumerate(rates):
+            r = runs[(label, rate)][0]
+            top, bottom = ax[2 * i, c], ax[2 * i + 1, c]
+            stress = interval_stress(r)
+            top.plot(r["qs_strain"], stress, lw=0.6)
+            for d in detect_drops(r["qs_strain"], stress):
+                top.axvline(d.gamma, color="r", lw=0.3, alpha=0.5)
+            top.set_title(f"{label}, rate {rate:g} t0^-1", fontsize=7)
+            bottom.semilogy(r["strain"][1:], r["e_na"][1:], lw=0.6)
+            if c == 0:
+                top.set_ylabel("sigma_xy (k_N d^-1/2)", fontsize=7)
+                bottom.set_ylabel("E_na (k_N d^5/2)", fontsize=7)
+    for a in ax[-1]:
+        a.set_xlabel("strain")
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
