@@ -43,6 +43,7 @@ BASE = {
     "packing aqs": ["--n", "16", "--strain", "0.01", "--dgamma", "1e-3"],
     "shear run": ["--n", "16", "--strain", "1e-4"],
     "shear jacobian": ["--n", "16"],
+    "shear sweep": ["--n", "16", "--strain", "1e-4", "--mus", "0.3", "--scheduler", "inline"],
     "shear analyze": [],
     "shear export": [],
     "import": [str(ROOT / "docs" / "examples" / "import" / "csv" / "packing.csv"), "--law",
