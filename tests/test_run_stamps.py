@@ -84,3 +84,22 @@ def test_precursor_runs_are_fresh_only_under_their_stamp():
     assert not ps.fresh({})
     gone = {"fricstab/no_such_module.py": {"f": "0" * 16}}
     assert not ps.fresh({"units": json.dumps(gone), "code": ps.code_hash()})   # units decide
+
+
+def test_a_record_carries_the_code_of_the_cached_runs_it_read(toy):
+    """``add_units``: a claim that read cached runs is stale exactly when the code the runs
+    executed changed (``changes`` of its fingerprint), not at any change of the package."""
+    root, path, mod = toy
+    units = _stamp(root, mod)
+    rec = fp.add_units({"modules": {}, "claim": {"module": "fricstab/toy_mod.py",
+                                                  "names": [], "hash": None},
+                        "inputs": {}}, units)
+    rec["claim"]["hash"] = fp.unit_hash("fricstab/toy_mod.py", [], root)
+    assert fp.changes(rec, root) == []
+    path.write_text(SOURCE.replace("return x - 1", "return x - 2"))     # not run: fresh
+    assert fp.changes(rec, root) == []
+    path.write_text(SOURCE.replace("SCALE * x", "SCALE * x * 1.0"))     # run: stale
+    assert any(c.startswith("fricstab/toy_mod.py (") for c in fp.changes(rec, root))
+    whole = fp.add_units({"modules": {}}, {"fricstab/toy_mod.py": {"*": "0" * 16}})
+    assert whole["modules"] == {"fricstab/toy_mod.py": "0" * 16}       # a numba module whole
+    assert fp.add_units({"modules": {}}, None) == {"modules": {}}

@@ -274,6 +274,20 @@ def _adopt(cache, stem, ckpt):
             shutil.rmtree(old, ignore_errors=True)
 
 
+def run_units(runs):
+    """The code the runs executed: their ``units`` stamps merged (:func:`one_run`); a run
+    stamped with the coarse code hash only counts every fricstab module but the CLI whole."""
+    fp = _fingerprint()
+    out = {}
+    for rs in runs.values():
+        for r in rs:
+            u = str(r.get("units", ""))
+            out = _merge(out, json.loads(u) if u else
+                         {m: {"*": fp.module_hash(m, HERE.parent)}
+                          for m in fp.package_files(root=HERE.parent)})
+    return out
+
+
 def _old_runs(runs):
     """The runs in the form of fricstab.analysis.aqs.compare (onset strains, births)."""
     return [{"drops": [d.gamma for d in detect_drops(r["strain"], r["stress"])],
@@ -407,7 +421,7 @@ def run(argv=None):
     doc = {"rows": rows, "budget": bud, "run_seconds": run_s, "sizes": a.sizes, "seeds": seeds,
            "strain": a.strain,
            "dgamma": a.dgamma, "half_width": a.half_width, "n_perm": a.n_perm,
-           "n_rep": a.n_rep, "stopped": stopped, "stamp": stamp}
+           "n_rep": a.n_rep, "stopped": stopped, "stamp": stamp, "units": run_units(runs)}
     a.out.mkdir(parents=True, exist_ok=True)
     (a.out / f"{a.prefix}.json").write_text(json.dumps(json_clean(doc)) + "\n")
     figure(rows, a.out / f"{a.prefix}.png")

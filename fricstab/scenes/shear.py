@@ -238,6 +238,27 @@ def restitution(alpha):
     return math.exp(-math.pi * alpha / math.sqrt(1.0 - alpha * alpha))
 
 
+def damping_ratio(e):
+    """The damping ratio of a linear spring-dashpot with restitution ``e`` (inverse of
+    :func:`restitution`): ``-ln e / sqrt(pi^2 + ln^2 e)``; 1 (critical) at ``e = 0``."""
+    if not 0.0 <= e <= 1.0:
+        raise ParameterError(f"restitution e = {e!r}: a coefficient in [0, 1]")
+    if e == 0.0:
+        return 1.0
+    ln = math.log(e)
+    return -ln / math.sqrt(math.pi ** 2 + ln * ln)
+
+
+def kappa_from_kn(kappa_kn):
+    """E*/P (the scene's ``kappa``) for the stiffness number read as k_n/P (da Cruz et al.
+    2005, 2D), k_n the secant stiffness of Eq. A1 at the typical contact: the typical force
+    f_0 = P d = 2 P L0 at overlap delta_0 = f_0 / k_n gives delta_0 = 2 L0 / kappa_kn, and
+    E*/P = 2 / f_n(delta_0) with f_n ``lee_hurley``'s normal force (E* = 1, R = L0)."""
+    if not kappa_kn >= 10.0:
+        raise ParameterError(f"kappa_kn = {kappa_kn!r}: at least 10 (overlaps below 0.2 L0)")
+    return 2.0 / _lee_hurley_contact(2.0 / kappa_kn)[0]
+
+
 @dataclass(frozen=True)
 class Units:
     """Reduced units: ``length`` [m], ``pressure`` (E*) [Pa], ``mass`` [kg/m], ``time`` [s]."""

@@ -53,6 +53,10 @@ class Result:
     values: dict
     seeds: tuple = ()
     outputs: tuple = ()
+    #: the code that made cached computations the values read (``{module: {unit: hash}}``,
+    #: :func:`claims.fingerprint.code_units`): part of the record's dependence, so the claim
+    #: is stale exactly when that code changed, not at every change of the package
+    units: dict = None
 
 
 @dataclass(frozen=True)

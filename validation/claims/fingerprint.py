@@ -458,6 +458,18 @@ def code_units(tracer, root=ROOT, skip=("fricstab/cli/",)):
     return out
 
 
+def add_units(fp, units):
+    """``fp`` (:func:`fingerprint`) with the code ``units`` (:func:`code_units`) of cached
+    computations merged in: a whole module (``"*"``) into its modules, functions into its
+    functions.  ``units`` None: ``fp`` unchanged."""
+    for m, u in (units or {}).items():
+        if "*" in u:
+            fp["modules"][m] = u["*"]
+        else:
+            fp.setdefault("functions", {}).setdefault(m, {}).update(u)
+    return fp
+
+
 def units_changed(units, root=ROOT):
     """The modules of ``units`` (from :func:`code_units`) whose executed code changed since."""
     out = []

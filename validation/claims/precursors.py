@@ -5,7 +5,6 @@ import math
 
 from .aqs import _aqs_study, _checkout
 from .core import Claim, Result
-from .fingerprint import package_files
 
 HEADING = "Precursors of stress drops: the ranked test, its sizes, sheared dynamics"
 INTRO = ("`validation/precursor_study.py` (how-to: docs/howto/aqs.md, \"The ranked test\"): "
@@ -39,7 +38,7 @@ def ranked_run():
                                       for c, t in r["candidates"].items()}}
             for r in doc["rows"]}
     out = ("validation/precursor_study_n64" + x for x in (".md", ".json", ".png"))
-    return Result(json_clean(rows), seeds=(0, 1, 2, 3), outputs=tuple(out))
+    return Result(json_clean(rows), seeds=(0, 1, 2, 3), outputs=tuple(out), units=doc["units"])
 
 
 def _ranked_show(v, label):
@@ -136,7 +135,8 @@ def scale_run():
         "candidates": {c: {k: t[k] for k in keep} for c, t in r["candidates"].items()}}
         for r in doc["rows"]}
     out = ("validation/precursor_study" + x for x in (".md", ".json", ".png"))
-    return Result(json_clean(rows), seeds=tuple(range(max(SCALE_SEEDS))), outputs=tuple(out))
+    return Result(json_clean(rows), seeds=tuple(range(max(SCALE_SEEDS))), outputs=tuple(out),
+                  units=doc["units"])
 
 
 def _scale_show(v, label):
@@ -171,7 +171,7 @@ CLAIMS = [Claim(f"precursors.scale_{law}", "precursors",
                 "candidates whose onset rank is extreme at alpha = 0.05", "hours",
                 SCALE_COMMAND, scale_run, show=lambda v, label=label: _scale_show(v, label),
                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
-                job="precursors.scale", inputs=package_files(root=_checkout()),
+                job="precursors.scale",
                 texts={"table": scale_table} if law == "charan" else {})
           for law, label in RANKED_LAWS.items()]
 
@@ -181,7 +181,7 @@ CLAIMS += [Claim(f"precursors.ranked_{law}", "precursors",
                 "permutation p, power at preceded fractions 0.5 / 0.8", "minutes",
                 RANKED_COMMAND, ranked_run, show=lambda v, label=label: _ranked_show(v, label),
                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
-                job="precursors.ranked", inputs=package_files(root=_checkout()),
+                job="precursors.ranked",
                 texts={"table": ranked_table, "answer": ranked_sentence} if law == "charan"
                 else {})
           for law, label in RANKED_LAWS.items()]

@@ -9,7 +9,7 @@ import time
 from pathlib import Path
 
 from . import records
-from .fingerprint import ROOT, Tracer, file_hash, fingerprint
+from .fingerprint import ROOT, Tracer, add_units, file_hash, fingerprint
 
 REPRODUCE = ROOT / "validation" / "reproduce.py"
 
@@ -53,7 +53,8 @@ def work(job):
         "values": _finite_json(res.values), "seeds": _finite_json(list(res.seeds)),
         "outputs": {str(f): file_hash(str(f)) for f in res.outputs},
         "revision": head, "dirty": dirty, "date": records.now(), "wall_s": round(wall, 1),
-        "environment": records.environment(), "fingerprint": fingerprint(claims[0], tracer=tracer),
+        "environment": records.environment(),
+        "fingerprint": add_units(fingerprint(claims[0], tracer=tracer), res.units),
     }
     records.save(rec)
     return rec

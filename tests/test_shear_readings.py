@@ -1,0 +1,86 @@
+"""The two readings of Lee & Hurley's protocol (issue 34, item 1): restitution against damping
+ratio (``damping_ratio``), kappa as E*/P against k_n/P (``kappa_from_kn``), and the study that
+compares them (``validation/shear_protocol.py``) on a tiny cell."""
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fricstab.errors import ParameterError
+from fricstab.scenes.shear import damping_ratio, kappa_from_kn, restitution, typical_overlap
+
+VALIDATION = Path(__file__).resolve().parents[1] / "validation"
+
+
+@pytest.mark.parametrize("e", [0.05, 0.5, 0.73, 0.9, 0.99])
+def test_damping_ratio_inverts_restitution(e):
+    """Round trip to rounding (a few ulps through log, sqrt and exp)."""
+    assert restitution(damping_ratio(e)) == pytest.approx(e, rel=1e-14)
+
+
+def test_damping_ratio_values():
+    """The paper's e = 0.9 is a ratio of 0.0335 (Hu et al.'s linear damping), against the 0.1
+    the paper lists as damping constants; e = 1 is no damping, e = 0 critical."""
+    assert damping_ratio(0.9) == pytest.approx(0.0335, abs=5e-5)
+    assert damping_ratio(1.0) == 0.0 and damping_ratio(0.0) == 1.0
+    with pytest.raises(ParameterError, match="restitution"):
+        damping_ratio(1.2)
+
+
+@pytest.mark.parametrize("kappa_kn", [1e2, 1e3, 1e4, 1e6])
+def test_kn_reading_puts_the_typical_overlap_at_d_over_kappa(kappa_kn):
+    """k_n / P = kappa means delta_0 = f_0 / k_n = P d / k_n = d / kappa = 2 L0 / kappa: the
+    E*/P it returns, through the scene's own typical_overlap (a root find to ~4 eps), gives
+    that overlap to ~1e-12 relative (the root find's tolerance amplified by the force law's
+    slope, ~1.5 on the log scale)."""
+    ke = kappa_from_kn(kappa_kn)
+    assert typical_overlap(ke) == pytest.approx(2.0 / kappa_kn, rel=1e-12)
+    # the pressure it implies is lower than E*/kappa: k_n < E* for Hertz cylinders at these
+    # overlaps (A2: pi E* / [2 log(4R/a) - 1])
+    assert ke > kappa_kn
+
+
+def test_kn_reading_rejects_soft_contacts():
+    with pytest.raises(ParameterError, match="kappa_kn"):
+        kappa_from_kn(5.0)
+
+
+def test_protocol_study_on_a_tiny_cell(tmp_path):
+    """Four readings, one seed, a 40-disk cell sheared 1 %: the runs carry the reading's
+    parameters, and the table and JSON come out (the observables are checked for existence
+    and range only: a 40-disk cell decides nothing)."""
+    sys.path.insert(0, str(VALIDATION))
+    import shear_protocol as sp
+    sp.SCALES["tiny"] = {"n": 40, "strain": 0.01, "gamma0": 0.002}
+    try:
+        rows = {r: {"0": sp.one("tiny", r, 0, tmp_path / "cache", log=lambda m: None)}
+                for r in sp.READINGS}
+        summary = sp.summarise(rows)
+        sp.write(rows, summary, "tiny", [0], tmp_path)
+    finally:
+        del sp.SCALES["tiny"]
+    doc = json.loads((tmp_path / "shear_protocol_tiny.json").read_text())
+    assert set(doc["runs"]) == set(sp.READINGS)
+    a = damping_ratio(0.9)
+    assert rows["restitution"]["0"]["alpha_n"] == pytest.approx(a)
+    assert rows["damping"]["0"]["alpha_n"] == 0.1
+    p_kn = rows["kn"]["0"]["pressure_over_estar"]
+    assert 1.0 / p_kn == pytest.approx(kappa_from_kn(1e3))
+    for r in rows.values():
+        o = r["0"]
+        assert 0.0 <= o["rate"] <= 1.0 and math.isfinite(o["tau_mean"])
+        assert o["n_slips"] >= 0
+    assert "not judged" in doc["verdict"]
+    # a cached run is reused (no new run: the log stays silent), a changed one is not
+    logged = []
+    sp.SCALES["tiny"] = {"n": 40, "strain": 0.01, "gamma0": 0.002}
+    try:
+        sp.one("tiny", "damping", 0, tmp_path / "cache", log=logged.append)
+    finally:
+        del sp.SCALES["tiny"]
+    assert logged == []
+    assert np.isfinite(summary["damping"]["rate"]["mean"])

@@ -1,0 +1,215 @@
+"""Issue 34, item 1: which reading of Lee & Hurley's protocol do the observables support?
+
+The paper lists both a restitution coefficient (0.9, with the material properties) and
+damping ratios (0.1, 0.1 for gamma_n, gamma_t, Eqs. A4 and A12), and a contact stiffness
+number kappa = 1e4 without saying whether it is E*/P or k_n/P (da Cruz et al. 2005).  The
+preset reads damping ratio 0.1 (restitution 0.73) and E*/P.  Each reading here changes one
+of these on the same cell and seeds:
+
+- ``damping``: the preset (ratio 0.1; kappa = E*/P);
+- ``restitution``: ratios alpha_n = alpha_t = 0.034, the linear spring-dashpot's for e = 0.9
+  (:func:`fricstab.scenes.shear.damping_ratio`);
+- ``kn``: kappa read as k_n / P: E*/P = :func:`fricstab.scenes.shear.kappa_from_kn` (kappa)
+  (a pressure ~3-4x lower);
+- ``restitution_kn``: both.
+
+Per run, the observables that do not need the full paper run: the phase rate (phases per
+output step in the window strain >= gamma0, the paper's 0.323), tau's mean and std from the
+steady start (:func:`fricstab.analysis.stationarity.steady_start`, the Mann-Kendall test on
+20 block means; the window from gamma0 when no start passes), the steady start itself, and the
+shape of the slip sizes |Delta tau_p| (median, 90th percentile, largest; the fraction of slips
+above 1e-2, the paper's 'significant decrease').  Per reading: seed mean, seed standard error
+and the distance of the mean phase rate from the paper's in standard errors.  The paper's
+value is for its own cell (1,000 disks, I = 4e-6, kappa = 1e4, frames 7.2e-7 apart): a
+reading is judged against it only at ``--scale paper``; at smaller scales the table shows how
+far each reading moves the observables, not which one is right.
+
+    python validation/shear_protocol.py --scale quick --seeds 0 1 2     # ~1 h on one core
+    python validation/shear_protocol.py --scale decide --seeds 0 1 2    # 1,000 disks, kappa 1e4
+
+Runs are cached per (scale, reading, seed) under ``--cache`` (default
+``validation/.shear_protocol``) and reused when their parameters match; ``--no-run``
+tabulates the cached ones.  Writes ``<out>/shear_protocol_<scale>.md`` and ``.json``.
+"""
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+
+from fricstab.scenes.shear import damping_ratio, kappa_from_kn  # noqa: E402
+
+PAPER_RATE = 0.323          # ~42,000 phases in ~130,000 output steps (Sec. 3.1)
+PAPER_RESTITUTION = 0.9
+SLIP_BIG = 1e-2             # the paper's 'significant decrease' of Delta tau_p (Sec. 4)
+#: scale -> overrides of the quick preset (``fricstab shear run`` defaults)
+SCALES = {"quick": {},
+          "decide": {"n": 1000, "kappa": 1e4, "strain": 0.12},
+          "paper": "paper"}
+READINGS = ("damping", "restitution", "kn", "restitution_kn")
+WHAT = {"damping": "damping ratio 0.1, kappa = E*/P (the preset)",
+        "restitution": f"restitution {PAPER_RESTITUTION} (ratio "
+                       f"{damping_ratio(PAPER_RESTITUTION):.3f}), kappa = E*/P",
+        "kn": "damping ratio 0.1, kappa = k_n/P",
+        "restitution_kn": f"restitution {PAPER_RESTITUTION}, kappa = k_n/P"}
+
+
+def params(scale, reading, seed):
+    """The ``shear run`` parameters of one run."""
+    from fricstab.cli.shear import resolve_params
+    spec = SCALES[scale]
+    preset = "paper" if spec == "paper" else "quick"
+    over = {} if spec == "paper" else dict(spec)
+    base = resolve_params(None, preset, {**over, "seed": seed})
+    if reading.startswith("restitution"):
+        a = damping_ratio(PAPER_RESTITUTION)
+        over.update(alpha_n=a, alpha_t=a)
+    if reading.endswith("kn"):
+        over["kappa"] = kappa_from_kn(base["kappa"])
+    return resolve_params(None, preset, {**over, "seed": seed})
+
+
+def observables(folder, p):
+    """The observables of one finished run (module docstring)."""
+    from fricstab.analysis.shear_phases import find_phases
+    from fricstab.analysis.stationarity import steady_start
+    z = np.load(folder / "shear.npz")
+    strain, tau = z["strain"], z["tau"]
+    rec = json.loads((folder / "shear.json").read_text())
+    g0 = p["gamma0"]
+    win = strain >= g0
+    start, test = steady_start(strain[win], tau[win])
+    steady = strain >= (g0 if start is None else start)
+    ok = np.zeros(len(tau), bool)
+    ok[1:] = strain[:-1] >= g0
+    ph = find_phases(tau, ok)
+    dt = tau[ph[:, 1]] - tau[ph[:, 0] - 1] if len(ph) else np.zeros(0)
+    slips = -dt[dt < 0]
+    return {"rate": rec["phases"]["phases_per_step"],
+            "steady_start": start, "steady_p": test["p"],
+            "drift_over_std": test["drift_over_std"],
+            "tau_mean": float(tau[steady].mean()), "tau_std": float(tau[steady].std()),
+            "slip_median": float(np.median(slips)) if slips.size else None,
+            "slip_p90": float(np.quantile(slips, 0.9)) if slips.size else None,
+            "slip_max": float(slips.max()) if slips.size else None,
+            "slip_big_fraction": float(np.mean(slips > SLIP_BIG)) if slips.size else None,
+            "n_slips": int(slips.size), "servo_rms": rec["servo"]["rms_rel_error"],
+            "pressure_over_estar": 1.0 / p["kappa"], "alpha_n": p["alpha_n"]}
+
+
+def one(scale, reading, seed, cache, run=True, log=print):
+    """The observables of one run (cached), or None when not cached and not ``run``."""
+    from fricstab.cli.shear import run_shear
+    p = params(scale, reading, seed)
+    out = cache / scale / f"{reading}_s{seed}"
+    rec_path = out / "shear.json"
+    fresh = (rec_path.exists()
+             and json.loads(rec_path.read_text()).get("parameters") == json.loads(json.dumps(p)))
+    if not fresh:
+        if not run:
+            return None
+        t0 = time.perf_counter()
+        log(f"{scale} {reading} seed {seed}: running (kappa E*/P = {p['kappa']:.4g}, "
+            f"alpha_n = {p['alpha_n']:.3g})")
+        run_shear(p, out, force=True, argv=["validation/shear_protocol.py"], log=lambda s: None)
+        log(f"  done in {time.perf_counter() - t0:.0f} s")
+    return observables(out, p)
+
+
+def summarise(rows):
+    """Per reading: mean and standard error over seeds of each observable."""
+    out = {}
+    for reading, seeds in rows.items():
+        keys = [k for k in next(iter(seeds.values())) if isinstance(
+            next(iter(seeds.values()))[k], (int, float))]
+        s = {}
+        for k in keys:
+            v = np.array([x[k] for x in seeds.values() if x[k] is not None], float)
+            if v.size:
+                s[k] = {"mean": float(v.mean()),
+                        "se": float(v.std(ddof=1) / math.sqrt(v.size)) if v.size > 1 else None,
+                        "n": int(v.size)}
+        r = s.get("rate")
+        if r and r["se"]:
+            s["rate_distance_se"] = (r["mean"] - PAPER_RATE) / r["se"]
+        out[reading] = s
+    return out
+
+
+def verdict(summary, scale):
+    """Which reading the phase rate supports: at the paper's scale the reading whose mean is
+    within 2 standard errors of 0.323 (none, or several, said so); below it, none is judged."""
+    if scale != "paper":
+        return ("not judged: the paper's 0.323 is for its own cell; at this scale the table "
+                "shows how far each reading moves the observables")
+    ok = [r for r, s in summary.items() if abs(s.get("rate_distance_se", math.inf)) <= 2.0]
+    if len(ok) == 1:
+        return f"the phase rate supports '{ok[0]}' (within 2 standard errors of 0.323)"
+    return ("the phase rate supports none of the readings" if not ok else
+            "the phase rate does not separate " + ", ".join(ok))
+
+
+def write(rows, summary, scale, seeds, out):
+    def f(x, d=3):
+        return "-" if x is None else f"{x:.{d}g}"
+    lines = [f"# Lee & Hurley's protocol, four readings, scale '{scale}'", "",
+             f"Command: `python validation/shear_protocol.py --scale {scale} --seeds "
+             f"{' '.join(map(str, seeds))}`.  Seed mean +- standard error; the paper's phase "
+             f"rate {PAPER_RATE} is for its own cell.", "",
+             "| reading | E*/P | phases per step | tau mean (steady) | tau std | steady start "
+             "(strain) | slip median | slip p90 | slips > 1e-2 | servo rms |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for reading, s in summary.items():
+        def ms(k, d=3):
+            if k not in s:
+                return "-"
+            return f(s[k]["mean"], d) + ("" if s[k]["se"] is None else f" +- {f(s[k]['se'], 2)}")
+        starts = [x["steady_start"] for x in rows[reading].values()]
+        kap = 1.0 / s["pressure_over_estar"]["mean"]
+        lines.append(f"| {WHAT[reading]} | {kap:.4g} | {ms('rate')} | {ms('tau_mean')} | "
+                     f"{ms('tau_std')} | "
+                     + ", ".join("none" if x is None else f"{x:.3f}" for x in starts)
+                     + f" | {ms('slip_median')} | {ms('slip_p90')} | {ms('slip_big_fraction')} "
+                     f"| {ms('servo_rms')} |")
+    lines += ["", f"Verdict: {verdict(summary, scale)}."]
+    out.mkdir(parents=True, exist_ok=True)
+    (out / f"shear_protocol_{scale}.md").write_text("\n".join(lines) + "\n")
+    (out / f"shear_protocol_{scale}.json").write_text(json.dumps(
+        {"scale": scale, "seeds": seeds, "runs": rows, "summary": summary,
+         "verdict": verdict(summary, scale)}, indent=1, default=float))
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scale", choices=tuple(SCALES), default="quick")
+    ap.add_argument("--readings", nargs="+", choices=READINGS, default=list(READINGS))
+    ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    ap.add_argument("--cache", type=Path, default=HERE / ".shear_protocol")
+    ap.add_argument("--out", type=Path, default=HERE)
+    ap.add_argument("--no-run", action="store_true", help="tabulate cached runs only")
+    a = ap.parse_args(argv)
+    rows = {}
+    for reading in a.readings:
+        for seed in a.seeds:
+            o = one(a.scale, reading, seed, a.cache, not a.no_run,
+                    log=lambda m: print(m, flush=True))
+            if o is not None:
+                rows.setdefault(reading, {})[str(seed)] = o
+    if not rows:
+        print("no runs cached for these readings and seeds (drop --no-run to run them)")
+        return 1
+    summary = summarise(rows)
+    write(rows, summary, a.scale, a.seeds, a.out)
+    print(f"wrote {a.out / f'shear_protocol_{a.scale}.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
