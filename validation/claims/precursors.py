@@ -166,13 +166,35 @@ def scale_table(v):
     return "\n\n" + "\n".join(lines) + "\n\n"
 
 
+def scale_answer(v):
+    """The answer per law and size, computed at alpha = 0.05: the candidates extreme at the
+    onsets (p), and for a size where the pair count or growth rate is not, the power that
+    test had at a preceded fraction of 0.5 (what its 'no' can exclude)."""
+    out = []
+    for label in RANKED_LAWS.values():
+        parts = []
+        for r in sorted((r for r in v.values() if r["law"] == label), key=lambda r: r["n"]):
+            c = r["candidates"]
+            yes = [f"{k} (p {c[k]['pvalue']:.2g})" for k in CANDIDATES
+                   if c[k]["statistic"] is not None and c[k]["pvalue"] <= 0.05]
+            miss = [f"{k} power {c[k]['power_0.5']:.2f}" for k in ("n_pairs", "growth")
+                    if c[k]["statistic"] is not None and c[k]["pvalue"] > 0.05
+                    and c[k]["power_0.5"] is not None]
+            parts.append(f"N = {r['n']} ({r['runs']} runs, {r['drops']} drops): "
+                         + (", ".join(yes) or "none")
+                         + (f" [not: {', '.join(miss)} at f = 0.5]" if miss else ""))
+        out.append(f"{label.split()[0]}: " + "; ".join(parts))
+    return ". ".join(out)
+
+
 CLAIMS = [Claim(f"precursors.scale_{law}", "precursors",
                 f"{law}: ranked test at N = 64 to 1,024 (4, 2, 1, 1, 1 seeds): per N the "
                 "candidates whose onset rank is extreme at alpha = 0.05", "hours",
                 SCALE_COMMAND, scale_run, show=lambda v, label=label: _scale_show(v, label),
                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
                 job="precursors.scale",
-                texts={"table": scale_table} if law == "charan" else {})
+                texts={"table": scale_table, "answer": scale_answer} if law == "charan"
+                else {})
           for law, label in RANKED_LAWS.items()]
 
 CLAIMS += [Claim(f"precursors.ranked_{law}", "precursors",
