@@ -1,0 +1,39 @@
+"""The ensemble manifest of issue 35 (validation/ishima_ensemble.py) on a tiny ensemble: every
+packing judged, an unstable one marked unused with its reason, the counts per (N, phi)."""
+
+import json
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+
+def test_the_manifest_excludes_what_the_rule_rejects(tmp_path, monkeypatch):
+    import _packings
+    import ishima_ensemble as ens
+    from fricstab.analysis import stability as st
+    monkeypatch.setattr(_packings, "CACHE", tmp_path / "packings")
+    real = ens.packing_stability
+    calls = []
+
+    def judged(system, state):
+        calls.append(1)
+        if len(calls) == 2:        # the second packing: feign G(0) < 0 on it
+            return st.classify([-1.0], 1.0, g=-0.0147, g_a=0.3)
+        return real(system, state)
+    monkeypatch.setattr(ens, "packing_stability", judged)
+    rows = [ens.one(32, phi, seed, log=lambda m: None) for phi in (0.86, 0.9) for seed in (0, 1)]
+    doc = ens.write(rows, tmp_path, ["--sizes", "32"])
+    assert [r["use"] for r in rows] == [True, False, True, True]
+    assert "unstable to shear" in rows[1]["stability"]["reason"]
+    assert all(r["stability"]["route"] == "dense" and r["stability"]["g"] > 0
+               for r in rows if r["use"])
+    cell = doc["summary"]["32/0.86"]
+    assert (cell["samples"], cell["used"], cell["excluded"][0]["seed"]) == (2, 1, 1)
+    md = (tmp_path / "ishima_ensemble.md").read_text()
+    assert "Rule: excluded" in md and "1: " in md and "unstable to shear" in md
+    assert json.loads((tmp_path / "ishima_ensemble.json").read_text())["rule"] == ens.RULE
+    # a second pass reads every packing from the cache
+    again = [ens.one(32, 0.9, 0, log=lambda m: None)]
+    assert again[0]["from_cache"] and again[0]["make_seconds"] == 0.0
