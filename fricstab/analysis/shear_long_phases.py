@@ -79,8 +79,8 @@ def _abs_rho(x, y):
 def sg_versus_mg(arrays, bins=None, n_boot=2000, seed=0):
     """The paired test of sg10 against mg10 in long slips (module docstring), per bin of
     ``Delta tau_p < 0`` (default: the paper's slip bins).  Returns a list of cells: ``lo``,
-    ``hi``, ``n``, ``rho_mg10``, ``rho_sg10`` (|rho|), ``diff`` and its 95 % ``interval``,
-    ``reading`` (stronger / almost equal / weaker / too few) and ``holds``."""
+    ``hi``, ``n``, ``rho_mg10``, ``rho_sg10`` (absolute values), ``diff`` and its 95 %
+    ``interval``, ``reading`` (stronger / almost equal / weaker / too few) and ``holds``."""
     a = _arrays(arrays)
     bins = [b for b in PAPER_BINS if b[1] <= 0] if bins is None else bins
     long_ = a["phase_t_p"] > LONG
