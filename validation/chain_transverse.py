@@ -18,7 +18,6 @@ import argparse
 import math
 import platform
 import sys
-import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -68,13 +67,14 @@ def study():
     return rows, bands
 
 
-def report(rows, seconds):
-    """The text of ``chain_transverse.md``."""
+def report(rows):
+    """The text of ``chain_transverse.md`` (no wall time or date: the claim's record keeps
+    them, and the record's digest of this file must not move with them)."""
     lines = [
         "# Chain: the transverse y band by wavelength and the predicted V2 (Charan Fig. 6)",
         "",
-        f"`python validation/chain_transverse.py` ({seconds:.0f} s, {platform.machine()}, "
-        f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d')}). Paper units: "
+        f"`python validation/chain_transverse.py` ({platform.machine()}, "
+        f"Python {platform.python_version()}). Paper units: "
         "length 2R, time t_0 = sqrt(m 2R/k_n); k = 2 pi m / N in 1/(2R), wavelength N/m in 2R.",
         "The band: the N = 10 real oscillating modes of M^-1 J with the largest y fraction "
         "(`fricstab.analysis.modes.transverse_band`); each mode's wavelength is its dominant "
@@ -119,9 +119,8 @@ def report(rows, seconds):
 
 def run():
     """The study: write ``chain_transverse.md`` and ``chain_transverse.png``; returns the values."""
-    t0 = time.perf_counter()
     rows, bands = study()
-    REPORT.write_text(report(rows, time.perf_counter() - t0))
+    REPORT.write_text(report(rows))
     marks = {c: b.frequency(2.0) for c, b in bands.items() if c != "physical"}
     transverse_band_figure(bands["physical"], FIGURE, marks=marks,
                            title=f"transverse band, F_x = {FIGURE_FX}, physical")
