@@ -32,3 +32,17 @@ def test_scale_answer():
     assert "not:" not in ishima
     assert "n_pairs" not in hertz.split("N = 1024")[1]     # no pair: neither named nor 'not'
     assert text.index("N = 64") < text.index("N = 1024")
+
+
+def test_fi_answer():
+    from claims.precursors import FI_LAWS, fi_answer
+    v = {}
+    for law, (lab, fi) in FI_LAWS.items():
+        v[lab] = {"drops": 13, "candidates": {c: _cand(0.001 if c == "min_real" else 0.5)
+                                              for c in CANDIDATES}}
+        v[fi] = {"drops": 20, "candidates": {c: _cand(0.03 if c == "growth" else 0.5)
+                                             for c in CANDIDATES}}
+    text = fi_answer(v)
+    assert text.startswith("ishima (13 drops): min_real (p 0.001) against ishima_fi (20 drops): "
+                           "growth (p 0.03)")
+    assert "; charan (13 drops)" in text

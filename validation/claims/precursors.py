@@ -32,13 +32,19 @@ def ranked_run():
         ["--sizes", "64", "--seeds", "4", "--prefix", "precursor_study_n64",
          "--cache", str(_checkout() / SCALE_CACHE), "--resume",
          "--out", str(_checkout() / "validation")])
+    out = ("validation/precursor_study_n64" + x for x in (".md", ".json", ".png"))
+    return Result(json_clean(_law_rows(doc)), seeds=(0, 1, 2, 3), outputs=tuple(out),
+                  units=doc["units"])
+
+
+def _law_rows(doc):
+    """Per law of a study's document: its drops, the old test's power and per candidate the
+    ranked test's numbers (what the ranked and frame-indifferent claims record)."""
     keep = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
-    rows = {r["law"]: {"drops": r["drops"], "window1_power_0.8": r["window1_power_0.8"],
+    return {r["law"]: {"drops": r["drops"], "window1_power_0.8": r["window1_power_0.8"],
                        "candidates": {c: {k: t[k] for k in keep}
                                       for c, t in r["candidates"].items()}}
             for r in doc["rows"]}
-    out = ("validation/precursor_study_n64" + x for x in (".md", ".json", ".png"))
-    return Result(json_clean(rows), seeds=(0, 1, 2, 3), outputs=tuple(out), units=doc["units"])
 
 
 def _ranked_show(v, label):
@@ -207,6 +213,50 @@ CLAIMS += [Claim(f"precursors.ranked_{law}", "precursors",
                 texts={"table": ranked_table, "answer": ranked_sentence} if law == "charan"
                 else {})
           for law, label in RANKED_LAWS.items()]
+
+
+# ------------------------------------------------------------ item 3: frame-indifferent
+
+FI_COMMAND = ("python validation/precursor_fi.py --cache validation/.precursor_runs "
+              "(N = 64, 4 seeds; ishima, charan beside ishima_fi, charan_fi)")
+FI_LAWS = {"ishima": ("ishima kt=1", "ishima_fi kt=1"),
+           "charan": ("charan mu=0.1 kt=1", "charan_fi mu=0.1 kt=1")}
+
+
+def fi_run():
+    """The ranked test of each vector law beside its frame-indifferent form (FI_COMMAND),
+    its runs from the persistent cache of :func:`scale_run`."""
+    from fricstab.io.files import json_clean
+    doc = _aqs_study("precursor_fi").main(["--cache", str(_checkout() / SCALE_CACHE),
+                                           "--out", str(_checkout() / "validation")])
+    out = ("validation/precursor_fi" + x for x in (".md", ".json"))
+    return Result(json_clean(_law_rows(doc)), seeds=(0, 1, 2, 3), outputs=tuple(out),
+                  units=doc["units"])
+
+
+def fi_answer(v):
+    """Per vector law: the candidates extreme at the onsets (p <= 0.05) with the lab-frame
+    history and with the frame-indifferent one, and the drops of each."""
+    out = []
+    for law, labels in FI_LAWS.items():
+        parts = []
+        for label in labels:
+            r = v[label]
+            yes = [f"{c} (p {t['pvalue']:.2g})" for c, t in r["candidates"].items()
+                   if t["statistic"] is not None and t["pvalue"] <= 0.05]
+            parts.append(f"{label.split()[0]} ({r['drops']} drops): {', '.join(yes) or 'none'}")
+        out.append(" against ".join(parts))
+    return "; ".join(out)
+
+
+CLAIMS += [Claim(f"precursors.fi_{law}", "precursors",
+                 f"{law} against {law}_fi: ranked test at N = 64 (4 seeds), the candidates "
+                 "extreme at the onsets with a lab-frame and a frame-indifferent history",
+                 "minutes", FI_COMMAND, fi_run,
+                 show=lambda v, labels=labels: "; ".join(_ranked_show(v, x) for x in labels),
+                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
+                 job="precursors.fi", texts={"answer": fi_answer} if law == "ishima" else {})
+           for law, labels in FI_LAWS.items()]
 
 
 # ------------------------------------------------------------ item 4: sheared dynamics
