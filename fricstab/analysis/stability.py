@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from fricstab.analysis.sparse_spectrum import ZERO_CLUSTER, soft_end
+from fricstab.analysis.sparse_spectrum import ZERO_CLUSTER, _scale, soft_end
 from fricstab.errors import ParameterError
 
 __all__ = ["DENSE_MAX", "G_TOL", "Stability", "classify", "packing_stability"]
@@ -102,7 +102,7 @@ def packing_stability(system, state, with_g=True, k=24):
     from fricstab.protocols.aqs import reduced_matrix
     _, kmat = jacobian(system, state)
     gm = system.gmass[system.free, :system.dof].ravel()
-    scale = float(np.asarray(abs(kmat).sum(axis=1)).ravel().__truediv__(gm).max())
+    scale = _scale(kmat, gm)
     n_free = int(system.free.sum())
     if gm.size <= DENSE_MAX:
         a, _ = reduced_matrix(kmat, gm, n_free, system.dof)
