@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 from .core import Claim, Result, Verdict, bound_verdict, floor_verdict, sigma_verdict
+from . import _packing_paper
 
 HEADING = 'Frictional packings (Ishima et al.)'
 INTRO = ('Paper: Ishima, Saitoh, Otsuki, Hayakawa (2023). Units d = 1, k_N = 1, m = 1 '
@@ -946,3 +947,6 @@ CLAIMS = [
                     "FIRE trajectory (chaotic), so another CPU may group them otherwise",
           check=_check_thresholds, paper="F_Th = 1.0 x 10^-14 k_N d^(3/2)", job="packing.knobs"),
 ]
+
+# issue 35: the figures at the paper's scale (validation/ishima_paper.py --tier paper)
+CLAIMS += _packing_paper.claims()

@@ -1,0 +1,130 @@
+"""Issue 35: the one-command pipeline of Ishima's figures (``validation/ishima_paper.py``),
+its quick tier (N = 64, 3 samples, phi = 0.84, 0.87, 0.90) on fresh caches.
+
+What is checked: the exclusion rule keeps the unstable packing out of every mean; the cache is
+reused while its code is unchanged and recomputed when the stamp says otherwise; and two
+statements that carry physics, each with its error model next to it.  The paper-scale tier
+(``--tier paper``) is the hours claim ``packing.ishima_paper`` (not run here).
+"""
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import _packings  # noqa: E402
+import _stamped  # noqa: E402
+import ishima_paper as ip  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    base = tmp_path_factory.mktemp("ishima_paper")
+    mp = pytest.MonkeyPatch()
+    mp.setattr(_packings, "CACHE", base / "packings")
+    mp.setattr(ip, "CACHE", base / "pieces")
+    doc = ip.run("quick", out=base / "out", log=lambda m: None)
+    yield doc, base
+    mp.undo()
+
+
+def test_the_report_says_how_far_it_got_and_lists_every_figure(quick):
+    doc, base = quick
+    md = (base / "out" / "ishima_paper_quick.md").read_text()
+    assert doc["pieces_done"] == doc["pieces_total"] and "(complete)" in md
+    for head in ("## Ensemble", "Fig. 4", "Fig. 5", "Fig. 6", "Bands (Figs. 7-9)",
+                 "Fig. 7 b2", "Fig. 10", "Fig. 14", "Fig. 16", "Factorisation"):
+        assert head in md, head
+    assert (base / "out" / "ishima_paper_quick.png").stat().st_size > 10_000
+    assert json.loads((base / "out" / "ishima_paper_quick.json").read_text())["tier"] == "quick"
+
+
+def test_an_excluded_packing_enters_no_mean(quick):
+    """The rule's verdict (ishima_ensemble) decides which seeds the tables use: every excluded
+    (n, phi, seed) is absent from every table's seeds, the others present."""
+    doc, _ = quick
+    excluded = {(r["n"], r["phi"], r["seed"]) for r in doc["ensemble"]["excluded"]}
+    n = doc["sizes"]["fig4"]
+    for phi, t in doc["fig4"].items():
+        samples = ip.TIERS["quick"]["samples"][n]
+        want = [s for s in range(samples) if (n, float(phi), s) not in excluded]
+        assert t["seeds"] == want, phi
+        assert t["g"][0]["count"] == len(want)
+    for r in doc["ensemble"]["excluded"]:
+        assert r["stability"]["reason"]                  # a reason is given
+
+
+def test_a_piece_is_reused_while_fresh_and_recomputed_when_its_code_changed(quick, tmp_path):
+    calls = []
+
+    def make():
+        calls.append(1)
+        return {"x": np.arange(3.0)}
+    path = tmp_path / "piece.npz"
+    first = _stamped.cached(path, make, log=lambda m: None)
+    again = _stamped.cached(path, make, log=lambda m: None)
+    assert len(calls) == 1 and np.array_equal(first["x"], again["x"])
+    stored = _stamped.load(path)
+    units = json.loads(stored[_stamped.UNITS])
+    assert "validation/test_ishima_paper.py" in units      # the code it ran: this file
+    # a stamp naming a function that no longer hashes the same: stale, recomputed
+    stale = dict(stored)
+    stale[_stamped.UNITS] = np.str_(json.dumps({"validation/ishima_paper.py":
+                                                {"analyse": "0" * 16}}))
+    _stamped.save(path, stale)
+    msgs = []
+    _stamped.cached(path, make, log=msgs.append)
+    assert len(calls) == 2 and "made by other code" in msgs[0]
+
+
+def test_the_rotational_band_sits_at_its_prefactor(quick):
+    """The median frequency of the rotation-dominated modes over sqrt(kT/kN), kT/kN <= 1e-4
+    (the decoupled regime, where the prefactor is all the physics: the exponent 1/2 is an
+    identity there).  Error model: at N = 256 and 1,024 it is 0.76-0.78 with a per-packing
+    sd of 0.01 (validation/packing_dos_*.md); the window [0.6, 1.0] is wider than 10 sd, so
+    sampling cannot fail it, while a rotational inertia off by a factor 2 (m d^2/4 for
+    m d^2/8, say: a factor sqrt 2 in omega, 0.55 or 1.1) does."""
+    doc, _ = quick
+    for kt in ("1e-08", "1e-06", "0.0001"):
+        m = doc["fig10"]["rows"][kt]["median"]
+        assert 0.6 <= m["mean"] <= 1.0, (kt, m)
+
+
+def test_the_sign_change_of_g_na_per_phi_against_its_spread(quick):
+    """Each used packing's G_NA changes sign once in [1e-2, 10^1.5] (negative at the bracket's
+    low end, positive at its high end); the per-phi mean root lies within 3 combined standard
+    errors of the paper's 2.0 (its half-unit 0.05 and our sample s.e.: a 0.3 % false-alarm
+    rate per phi for a normal mean).  A law whose tangential stiffness entered G_NA with the
+    wrong weight moves the root by a factor of its error, far beyond the spread."""
+    doc, _ = quick
+    kts = doc["rig_kts"]
+    lo, hi = kts.index(1e-2), kts.index(10.0)
+    for phi, t in doc["fig4"].items():
+        for seed, row in zip(t["seeds"], t["g_na_per_seed"]):
+            assert row[lo] < 0 < row[hi], (phi, seed)
+        r = doc["sign_change"][phi]
+        assert r["count"] == len(t["seeds"])
+        assert math.fabs(r["mean"] - 2.0) <= 3 * math.hypot(r["se"], 0.05), (phi, r)
+
+
+def test_every_paper_claim_shows_and_judges_the_quick_values(quick):
+    """The hours claims read the same document at the paper's scale: their cells and verdicts
+    are computed here on the quick tier's (a claim that cannot render would be found after
+    days of compute otherwise).  Every verdict is computed, never typed: its label is one of
+    the registry's."""
+    from claims import _packing_paper
+    from fricstab.io.files import json_clean
+    doc, _ = quick
+    values = json.loads(json.dumps(json_clean(_packing_paper.values_of(doc))))
+    for claim in _packing_paper.claims():
+        assert claim.show(values)
+        verdict = claim.judge(values)
+        assert verdict.label in ("agrees", "disagrees", "not comparable"), claim.name
+        ok, _ = claim.check(values, values)
+        assert ok, claim.name
