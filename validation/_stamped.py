@@ -16,12 +16,13 @@ import hashlib
 import json
 import os
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-UNITS, CODE = "stamp_units", "stamp_code"
+UNITS, CODE, SECONDS = "stamp_units", "stamp_code", "stamp_seconds"
 
 
 def _fp():
@@ -88,7 +89,8 @@ def save(path, arrays):
 def cached(path, compute, log=print):
     """``compute()`` (a dict of arrays and numbers), from ``path`` while its stamp is fresh.
 
-    Returns the dict with the stamp (``stamp_units``, ``stamp_code``) added."""
+    Returns the dict with the stamp (``stamp_units``, ``stamp_code``) and the seconds the
+    computation took (``stamp_seconds``, under the tracer) added."""
     path = Path(path)
     if path.exists():
         try:
@@ -100,8 +102,10 @@ def cached(path, compute, log=print):
                 return got
             log(f"    {path.name}: made by other code; recomputed")
     fp = _fp()
+    t0 = time.perf_counter()
     with fp.Tracer() as tracer:
         out = dict(compute())
+    out[SECONDS] = np.float64(time.perf_counter() - t0)
     units = fp.code_units(tracer)
     out[UNITS] = np.str_("" if units is None else json.dumps(units))
     out[CODE] = np.str_(code_hash())

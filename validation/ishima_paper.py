@@ -182,16 +182,19 @@ def compute(n, phi, seed, piece, log=print):
 
 def run_pieces(tier, max_hours=None, log=print):
     """Compute (or read) every piece of ``tier``; pieces of packings the rule excludes are
-    skipped.  Returns ``({(n, phi, seed, piece): arrays}, units, done, total)``."""
+    skipped.  Returns ``({(n, phi, seed, piece): arrays}, units, pending)``: ``pending`` the
+    pieces owed and not done (stopped by ``max_hours``)."""
     todo = plan(tier)
-    got, units, t0, excluded, skipped = {}, {}, time.perf_counter(), set(), 0
+    got, units, t0, excluded, pending = {}, {}, time.perf_counter(), set(), []
     for i, (n, phi, seed, piece) in enumerate(todo):
         if (n, phi, seed) in excluded:
-            skipped += 1            # an excluded packing's pieces are not owed
+            continue                # an excluded packing's pieces are not owed
+        if pending or (max_hours is not None
+                       and time.perf_counter() - t0 > 3600 * max_hours):
+            if not pending:
+                log(f"stopped after {max_hours:g} h: {len(got)} pieces done")
+            pending.append((n, phi, seed, piece))
             continue
-        if max_hours is not None and time.perf_counter() - t0 > 3600 * max_hours:
-            log(f"stopped after {max_hours:g} h: {i} of {len(todo)} pieces done")
-            break
         a = time.perf_counter()
         out = compute(n, phi, seed, piece, log=log)
         spent = time.perf_counter() - a
@@ -202,7 +205,7 @@ def run_pieces(tier, max_hours=None, log=print):
         units = _stamped.merge(units, _stamped.units_of(out))
         if piece == "ensemble" and not json.loads(out["row"])["use"]:
             excluded.add((n, phi, seed))
-    return got, units, len(got), len(todo) - skipped
+    return got, units, pending
 
 
 # ------------------------------------------------------------------ statistics
@@ -453,6 +456,31 @@ def phi_table(got, n, phis):
     return out
 
 
+def _kind(piece):
+    return piece.rstrip("0123456789.e-") if piece[-1].isdigit() else piece
+
+
+def cost_table(got, pending):
+    """Per N and kind of piece (ensemble: make and judge a packing; rigidity; dos and rattlers:
+    one spectrum each): the measured seconds (mean, count), and the projected seconds of the
+    pieces still owed, each at the mean of its kind (None where no piece of that N and kind
+    was measured yet)."""
+    out = {}
+    for (n, _, _, piece), x in got.items():
+        if "stamp_seconds" in x:
+            out.setdefault(f"{n}/{_kind(piece)}", []).append(float(x["stamp_seconds"]))
+    rows = {k: {"mean": float(np.mean(v)), "count": len(v)} for k, v in out.items()}
+    owed, unknown = 0.0, 0
+    for n, _, _, piece in pending:
+        r = rows.get(f"{n}/{_kind(piece)}")
+        if r is None:
+            unknown += 1
+        else:
+            owed += r["mean"]
+    return {"rows": rows, "pending": len(pending), "projected_seconds": owed,
+            "unpriced": unknown}
+
+
 def analyse(got, tier):
     """Every table and verdict of the report from the computed pieces."""
     t = TIERS[tier]
@@ -580,6 +608,15 @@ def report(doc, done, total, stamp):
             "-" if r[k] is None else f"{r[k]:.3g}" for k in ("pN_median", "omega_median"))
             + " |")
     f16 = doc["fig16"]
+    c = doc["cost"]
+    L += ["", "## Cost (one core, this machine)", "", "| N | piece | seconds (mean) | pieces |",
+          "|---|---|---|---|"]
+    for k, r in sorted(c["rows"].items(), key=lambda kv: (int(kv[0].split("/")[0]), kv[0])):
+        n, kind = k.split("/")
+        L.append(f"| {n} | {kind} | {r['mean']:.3g} | {r['count']} |")
+    L += ["", f"Pieces still owed: {c['pending']}; projected {c['projected_seconds'] / 3600:.2g} h "
+          f"at the measured means" + (f", {c['unpriced']} of a kind not measured yet"
+                                      if c["unpriced"] else "") + "."]
     L += ["", "## DOS against phi (Fig. 16), kT/kN = 1e-8", ""]
     if "rot_peak" in f16:
         L += ["| phi | rotational peak / sqrt(kT/kN) | translational low end (5th pct) |",
@@ -658,10 +695,12 @@ def figure(doc, got, path):
 
 def run(tier="quick", out=HERE, max_hours=None, log=print, figures=True):
     """Compute (or read) the tier and write its report; returns the document."""
-    got, units, done, total = run_pieces(tier, max_hours, log)
+    got, units, pending = run_pieces(tier, max_hours, log)
     doc = analyse(got, tier)
+    done, total = len(got), len(got) + len(pending)
     stamp = f"{datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {platform.node()}"
-    doc.update({"pieces_done": done, "pieces_total": total, "units": units})
+    doc.update({"pieces_done": done, "pieces_total": total, "units": units,
+                "cost": cost_table(got, pending)})
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     stem = out / f"ishima_paper_{tier}"
