@@ -86,6 +86,16 @@ def save(path, arrays):
     os.replace(tmp, path)
 
 
+def stored(path):
+    """The fresh cache entry at ``path``, or None (absent, unreadable or made by other code)."""
+    path = Path(path)
+    try:
+        got = load(path)
+    except (OSError, ValueError):
+        return None
+    return got if fresh(got.get(UNITS, ""), got.get(CODE, "")) else None
+
+
 def cached(path, compute, log=print):
     """``compute()`` (a dict of arrays and numbers), from ``path`` while its stamp is fresh.
 

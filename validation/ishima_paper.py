@@ -180,8 +180,9 @@ def compute(n, phi, seed, piece, log=print):
     return _stamped.cached(_path(n, phi, seed, piece), make, log=log)
 
 
-def run_pieces(tier, max_hours=None, log=print):
-    """Compute (or read) every piece of ``tier``; pieces of packings the rule excludes are
+def run_pieces(tier, max_hours=None, log=print, compute_missing=True):
+    """Compute (or read) every piece of ``tier`` (with ``compute_missing=False`` only read the
+    fresh ones: the report of what is done); pieces of packings the rule excludes are
     skipped.  Returns ``({(n, phi, seed, piece): arrays}, units, pending)``: ``pending`` the
     pieces owed and not done (stopped by ``max_hours``)."""
     todo = plan(tier)
@@ -189,14 +190,16 @@ def run_pieces(tier, max_hours=None, log=print):
     for i, (n, phi, seed, piece) in enumerate(todo):
         if (n, phi, seed) in excluded:
             continue                # an excluded packing's pieces are not owed
-        if pending or (max_hours is not None
-                       and time.perf_counter() - t0 > 3600 * max_hours):
-            if not pending:
+        if max_hours is not None and time.perf_counter() - t0 > 3600 * max_hours:
+            if compute_missing:
                 log(f"stopped after {max_hours:g} h: {len(got)} pieces done")
+            compute_missing = False       # from here on: what the cache holds
+        a = time.perf_counter()
+        out = (compute(n, phi, seed, piece, log=log) if compute_missing
+               else _stamped.stored(_path(n, phi, seed, piece)))
+        if out is None:
             pending.append((n, phi, seed, piece))
             continue
-        a = time.perf_counter()
-        out = compute(n, phi, seed, piece, log=log)
         spent = time.perf_counter() - a
         if spent > 1.0:
             log(f"  N = {n} phi = {phi:g} seed {seed}: {piece} ({spent:.0f} s; "
@@ -693,9 +696,9 @@ def figure(doc, got, path):
     plt.close(fig)
 
 
-def run(tier="quick", out=HERE, max_hours=None, log=print, figures=True):
+def run(tier="quick", out=HERE, max_hours=None, log=print, figures=True, compute_missing=True):
     """Compute (or read) the tier and write its report; returns the document."""
-    got, units, pending = run_pieces(tier, max_hours, log)
+    got, units, pending = run_pieces(tier, max_hours, log, compute_missing)
     doc = analyse(got, tier)
     done, total = len(got), len(got) + len(pending)
     stamp = f"{datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC, {platform.node()}"
@@ -720,6 +723,8 @@ def main(argv=None):
                     help="stop after the piece that crosses this many hours and report what "
                          "is done (the cache keeps it; run again to go on)")
     ap.add_argument("--plan", action="store_true", help="list the pieces and stop")
+    ap.add_argument("--report-only", action="store_true",
+                    help="compute nothing: the report of the pieces the cache holds (fresh)")
     a = ap.parse_args(argv)
     if a.max_hours is not None and not a.max_hours > 0:
         ap.error("--max-hours must be positive")
@@ -728,7 +733,8 @@ def main(argv=None):
         have = sum(_path(*t).exists() for t in todo)
         print(f"{len(todo)} pieces, {have} cached (fresh or not) in {CACHE}")
         return 0
-    run(a.tier, a.out, a.max_hours, log=lambda m: print(m, flush=True))
+    run(a.tier, a.out, a.max_hours, log=lambda m: print(m, flush=True),
+        compute_missing=not a.report_only)
     print(f"wrote {a.out / f'ishima_paper_{a.tier}.md'}")
     return 0
 

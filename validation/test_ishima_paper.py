@@ -128,3 +128,22 @@ def test_every_paper_claim_shows_and_judges_the_quick_values(quick):
         assert verdict.label in ("agrees", "disagrees", "not comparable"), claim.name
         ok, _ = claim.check(values, values)
         assert ok, claim.name
+
+
+def test_the_report_of_what_is_done_computes_nothing(quick, tmp_path):
+    """``--report-only``: the same tables from the cache alone; a piece missing from it is
+    counted as owed and priced at its kind's measured mean, not computed."""
+    doc, base = quick
+    again = ip.run("quick", out=tmp_path, log=lambda m: None, figures=False,
+                   compute_missing=False)
+    assert again["fig4"] == doc["fig4"] and again["pieces_done"] == doc["pieces_done"]
+    gone = ip._path(64, 0.87, 1, "dos0.0001")
+    gone.rename(tmp_path / "kept.npz")
+    try:
+        part = ip.run("quick", out=tmp_path, log=lambda m: None, figures=False,
+                      compute_missing=False)
+    finally:
+        (tmp_path / "kept.npz").rename(gone)
+    assert part["pieces_done"] == doc["pieces_done"] - 1
+    assert part["cost"]["pending"] == 1 and part["cost"]["projected_seconds"] > 0
+    assert "(the scale reached" in (tmp_path / "ishima_paper_quick.md").read_text()
