@@ -156,7 +156,7 @@ def plan(tier):
     for phi in at_fig:                      # Fig. 16 and Fig. 5 at the DOS size
         for seed in range(t["samples"][nd]):
             add(nd, phi, seed, ["ensemble", "rigidity", "dos1e-08"]
-                + ([f"dos{k:g}" for k in DOS_KTS] + ["dos0"]
+                + ([f"dos{k:g}" for k in DOS_KTS]
                    + [f"rattlers{k:g}" for k in RATTLER_KTS] if phi == FIG_PHI else []))
     for phi in at_fig:                      # Figs. 4, 6 and the band mixing over phi
         for seed in range(t["samples"][n4]):
