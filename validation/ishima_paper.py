@@ -583,22 +583,18 @@ def report(doc, done, total, stamp):
     for phi, r in doc["sign_change"].items():
         L.append(f"| {phi} | {_f(r)} | {'-' if r['se'] is None else format(r['se'], '.2g')} | "
                  f"**{r['label']}** ({r['why']}) |")
-    L += ["", "## G against phi: a straight line (G proportional to phi - phi_c)?", "",
-          "| kT/kN | chi^2 / dof | p | phi_c of the line | reading |", "|---|---|---|---|---|"]
-    for r in doc["linear"]:
-        if r["p"] is None:
-            L.append(f"| {r['kt']:g} | - | - | - | {r['label']} |")
-        else:
-            L.append(f"| {r['kt']:g} | {r['chi2']:.2f} / {r['dof']} | {r['p']:.2g} | "
-                     f"{r['phi_c']:.4f} | {r['label']} |")
-    L += ["", "## Factorisation G(phi, kT) = G_0(phi) G(kT) (footnote 2)", "",
-          "| kT/kN | G / G_0 per phi | ANOVA F | p | reading |", "|---|---|---|---|---|"]
-    for r in doc["factorisation"]:
-        if r["p"] is None:
-            L.append(f"| {r['kt']:g} | - | - | - | {r['label']} |")
-        else:
-            L.append(f"| {r['kt']:g} | {', '.join(f'{x:.3g}' for x in r['ratios'])} | "
-                     f"{r['F']:.3g} | {r['p']:.2g} | {r['label']} |")
+    for key, title, head, cells in (
+            ("linear", "G against phi: a straight line (G proportional to phi - phi_c)?",
+             "chi^2 / dof | p | phi_c of the line",
+             lambda r: f"{r['chi2']:.2f} / {r['dof']} | {r['p']:.2g} | {r['phi_c']:.4f}"),
+            ("factorisation", "Factorisation G(phi, kT) = G_0(phi) G(kT) (footnote 2)",
+             "G / G_0 per phi | ANOVA F | p",
+             lambda r: f"{', '.join(f'{x:.3g}' for x in r['ratios'])} | {r['F']:.3g} | "
+                       f"{r['p']:.2g}")):
+        L += ["", f"## {title}", "", f"| kT/kN | {head} | reading |", "|---|---|---|---|---|"]
+        for r in doc[key]:
+            L.append(f"| {r['kt']:g} | " + ("- | - | -" if r["p"] is None else cells(r))
+                     + f" | {r['label']} |")
     L += ["", "## G(kT)/G(0) - 1 for small kT/kN (Fig. 5)", "",
           "| phi | 1e-8 | 1e-6 | 1e-4 | 1e-2 |", "|---|---|---|---|---|"]
     for phi, r in doc["limit"].items():

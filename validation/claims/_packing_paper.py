@@ -125,34 +125,32 @@ def _limit_verdict(v):
                    "little')")
 
 
-def _fact_show(v):
-    return "; ".join(f"kT/kN = {r['kt']:g}: " + ("-" if r["p"] is None else
-                     f"G/G_0 {', '.join(f'{x:.3g}' for x in r['ratios'])} (ANOVA p {r['p']:.2g})")
-                     for r in v["factorisation"])
+def _test_show(key, cell):
+    """The cells of a per-kT/kN test (``v[key]``), '-' where it could not be made."""
+    return lambda v: "; ".join(f"kT/kN = {r['kt']:g}: " + ("-" if r["p"] is None else cell(r))
+                               for r in v[key])
 
 
-def _fact_verdict(v):
-    r = v["factorisation"][-1]
-    if r["p"] is None:
-        return Verdict("not comparable", "fewer than 2 phi with 2 packings")
-    return Verdict("agrees" if r["p"] < 0.05 else "disagrees",
-                   f"ANOVA of G/G_0 across phi at kT/kN = {r['kt']:g}: p {r['p']:.2g}; the "
-                   "paper's 'not factorised' agrees if p < 0.05")
+def _test_verdict(key, short, test, claim):
+    """The paper's statement holds when the test at the largest kT/kN rejects (p < 0.05)."""
+    def verdict(v):
+        r = v[key][-1]
+        if r["p"] is None:
+            return Verdict("not comparable", short)
+        return Verdict("agrees" if r["p"] < 0.05 else "disagrees",
+                       f"{test} at kT/kN = {r['kt']:g}: p {r['p']:.2g}; the paper's "
+                       f"'{claim}' agrees if p < 0.05")
+    return verdict
 
 
-def _linear_show(v):
-    return "; ".join(f"kT/kN = {r['kt']:g}: " + ("-" if r["p"] is None else
-                     f"chi^2/dof {r['chi2']:.2f}/{r['dof']} (p {r['p']:.2g})")
-                     for r in v["linear"])
-
-
-def _linear_verdict(v):
-    r = v["linear"][-1]
-    if r["p"] is None:
-        return Verdict("not comparable", "fewer than 3 phi")
-    return Verdict("agrees" if r["p"] < 0.05 else "disagrees",
-                   f"a straight line in phi at kT/kN = {r['kt']:g}: p {r['p']:.2g}; the "
-                   "paper's 'not proportional to phi - phi_c' agrees if p < 0.05")
+_fact_show = _test_show("factorisation", lambda r: "G/G_0 " + ", ".join(
+    f"{x:.3g}" for x in r["ratios"]) + f" (ANOVA p {r['p']:.2g})")
+_fact_verdict = _test_verdict("factorisation", "fewer than 2 phi with 2 packings",
+                              "ANOVA of G/G_0 across phi", "not factorised")
+_linear_show = _test_show("linear", lambda r: f"chi^2/dof {r['chi2']:.2f}/{r['dof']} "
+                          f"(p {r['p']:.2g})")
+_linear_verdict = _test_verdict("linear", "fewer than 3 phi", "a straight line in phi",
+                                "not proportional to phi - phi_c")
 
 
 def _bands_show(v):
