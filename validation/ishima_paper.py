@@ -10,8 +10,8 @@ Figs. 4 and 6 at N = 1,024 (5 samples per phi, Sec. II), Figs. 5, 7-10, 14 and 1
 ``--tier quick``  the same pipeline at N = 64, 3 samples, phi = 0.84, 0.87, 0.90 (a minute;
                   CI runs it, ``validation/test_ishima_paper.py``).
 
-Per packing, in the order that fills the paper's figures first (the phi = 0.90 samples at the
-DOS size, then the rest): the ensemble row (made, or read from ``validation/.packings``; judged
+Per packing, in the order that fills the cheapest figures first (Figs. 4, 6 and the band
+mixing at N = 1,024, then the phi = 0.90 spectra at the DOS size, then Figs. 5 and 16): the ensemble row (made, or read from ``validation/.packings``; judged
 by the exclusion rule of :mod:`fricstab.analysis.stability`, :mod:`ishima_ensemble`); G_A,
 G_NA by the sparse solve on a kT/kN grid and the root of G_NA (Brent in log kT); G by the mode
 sum and by step strain at kT/kN = 1e-4, 1, 10 where the dense spectrum fits; the spectrum of
@@ -153,15 +153,17 @@ def plan(tier):
             if (n, phi, seed, p) not in todo:
                 todo.append((n, phi, seed, p))
     at_fig = [FIG_PHI] + [p for p in phis if p != FIG_PHI]
-    for phi in at_fig:                      # Fig. 16 and Fig. 5 at the DOS size
+    # cheapest and most asked-for first: Figs. 4, 6 and the band mixing over phi (N = 1,024),
+    # then the paper's phi = 0.90 spectra at the DOS size, then Figs. 5 and 16 there
+    for phi in at_fig:
+        for seed in range(t["samples"][n4]):
+            add(n4, phi, seed, ["ensemble", "rigidity"] + [f"dos{k:g}" for k in MIX_KTS]
+                + [f"rattlers{k:g}" for k in MIX_KTS])
+    for phi in at_fig:
         for seed in range(t["samples"][nd]):
             add(nd, phi, seed, ["ensemble", "rigidity", "dos1e-08"]
                 + ([f"dos{k:g}" for k in DOS_KTS]
                    + [f"rattlers{k:g}" for k in RATTLER_KTS] if phi == FIG_PHI else []))
-    for phi in at_fig:                      # Figs. 4, 6 and the band mixing over phi
-        for seed in range(t["samples"][n4]):
-            add(n4, phi, seed, ["ensemble", "rigidity"] + [f"dos{k:g}" for k in MIX_KTS]
-                + [f"rattlers{k:g}" for k in MIX_KTS])
     return todo
 
 
