@@ -36,13 +36,14 @@ import _packings  # noqa: E402
 from fricstab.analysis.stability import G_TOL, packing_stability  # noqa: E402
 from fricstab.analysis.sparse_spectrum import ZERO_CLUSTER  # noqa: E402
 from fricstab.engine.newton import touching  # noqa: E402
+from fricstab.errors import ParameterError  # noqa: E402
 from fricstab.scenes.packing_friction import backbone, frictional, material  # noqa: E402
 
 PHIS = (0.83, 0.84, 0.85, 0.86, 0.87, 0.88, 0.89, 0.90)
 SAMPLES = {1024: 5, 4096: 10}
-RULE = (f"excluded: a real eigenvalue of M^-1 K above {ZERO_CLUSTER:g} |A|_inf beyond the "
-        f"translations (a saddle), or G(0) < -{G_TOL:g} |G_A| (unstable to shear); the "
-        "frictionless backbone, fricstab.analysis.stability")
+RULE = ("excluded: no rigid backbone (unjammed), a real eigenvalue of M^-1 K above "
+        f"{ZERO_CLUSTER:g} |A|_inf beyond the translations (a saddle), or G(0) < -{G_TOL:g} "
+        "|G_A| (unstable to shear); the frictionless backbone, fricstab.analysis.stability")
 
 
 def _key(n, phi, seed):
@@ -56,7 +57,17 @@ def one(n, phi, seed, log=print):
     p = _packings.packing(n, phi, seed)
     made = 0.0 if cached else time.perf_counter() - t0
     t0 = time.perf_counter()
-    bb = backbone(p)
+    try:
+        bb = backbone(p)
+    except ParameterError as exc:     # below jamming: nothing rigid to judge or to measure
+        if "no rigid backbone" not in str(exc):
+            raise
+        reason = "unjammed: no rigid backbone (every particle a rattler, Z <= 2)"
+        log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
+        return {"n": n, "phi": phi, "seed": seed, "make_seconds": made,
+                "judge_seconds": time.perf_counter() - t0, "from_cache": cached,
+                "backbone": 0, "rattlers": int(n), "z_mean": 0.0,
+                "stability": {"stable": False, "reason": reason}, "use": False}
     fr = frictional(bb, material("hertz"))
     s = packing_stability(fr.system, fr.state)
     row = {"n": n, "phi": phi, "seed": seed, "make_seconds": made,

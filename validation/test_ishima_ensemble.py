@@ -37,3 +37,15 @@ def test_the_manifest_excludes_what_the_rule_rejects(tmp_path, monkeypatch):
     # a second pass reads every packing from the cache
     again = [ens.one(32, 0.9, 0, log=lambda m: None)]
     assert again[0]["from_cache"] and again[0]["make_seconds"] == 0.0
+
+
+def test_a_packing_below_jamming_is_excluded_as_unjammed(tmp_path, monkeypatch):
+    """Below jamming every disk is a rattler: the row says so and is not used (the paper's
+    phi = 0.83 at N = 1,024 is such a packing for our frictionless compression)."""
+    import _packings
+    import ishima_ensemble as ens
+    monkeypatch.setattr(_packings, "CACHE", tmp_path / "packings")
+    row = ens.one(32, 0.70, 0, log=lambda m: None)
+    assert not row["use"] and row["backbone"] == 0
+    assert row["stability"]["reason"].startswith("unjammed")
+    assert ens.summary([row])["32/0.7"]["excluded"][0]["reason"].startswith("unjammed")
