@@ -41,7 +41,8 @@ from fricstab.scenes.packing_friction import backbone, frictional, material  # n
 
 PHIS = (0.83, 0.84, 0.85, 0.86, 0.87, 0.88, 0.89, 0.90)
 SAMPLES = {1024: 5, 4096: 10}
-RULE = ("excluded: no rigid backbone (unjammed), a real eigenvalue of M^-1 K above "
+RULE = ("excluded: no rigid backbone (unjammed), forces not balanced to 1e-6 of the mean "
+        "contact force (marginal, at the jamming threshold), a real eigenvalue of M^-1 K above "
         f"{ZERO_CLUSTER:g} |A|_inf beyond the translations (a saddle), or G(0) < -{G_TOL:g} "
         "|G_A| (unstable to shear); the frictionless backbone, fricstab.analysis.stability")
 
@@ -69,7 +70,17 @@ def one(n, phi, seed, log=print):
                 "backbone": 0, "rattlers": int(n), "z_mean": 0.0,
                 "stability": {"stable": False, "reason": reason}, "use": False}
     fr = frictional(bb, material("hertz"))
-    s = packing_stability(fr.system, fr.state)
+    try:
+        s = packing_stability(fr.system, fr.state)
+    except ParameterError as exc:     # at the threshold: contact forces at rounding level
+        if "not force-balanced" not in str(exc):
+            raise
+        reason = f"marginal: {str(exc).split(';')[0]} (a packing at the jamming threshold)"
+        log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
+        return {"n": n, "phi": phi, "seed": seed, "make_seconds": made,
+                "judge_seconds": time.perf_counter() - t0, "from_cache": cached,
+                "backbone": int(bb.n), "rattlers": int(n - bb.n), "z_mean": None,
+                "stability": {"stable": False, "reason": reason}, "use": False}
     row = {"n": n, "phi": phi, "seed": seed, "make_seconds": made,
            "judge_seconds": time.perf_counter() - t0, "from_cache": cached,
            "backbone": int(bb.n), "rattlers": int(n - bb.n),

@@ -49,3 +49,21 @@ def test_a_packing_below_jamming_is_excluded_as_unjammed(tmp_path, monkeypatch):
     assert not row["use"] and row["backbone"] == 0
     assert row["stability"]["reason"].startswith("unjammed")
     assert ens.summary([row])["32/0.7"]["excluded"][0]["reason"].startswith("unjammed")
+
+
+def test_a_marginal_packing_is_excluded_not_fatal(tmp_path, monkeypatch):
+    """At the jamming threshold the contact forces are at rounding level and the backbone's
+    force balance cannot be judged relative to them (N = 1,024, phi = 0.84, seed 2: mean
+    contact force 1e-17): the row says so and the ensemble goes on."""
+    import _packings
+    import ishima_ensemble as ens
+    from fricstab.errors import ParameterError
+    monkeypatch.setattr(_packings, "CACHE", tmp_path / "packings")
+
+    def marginal(system, state):
+        raise ParameterError("the state is not force-balanced: max |F| = 4.4e-15 (tolerance "
+                             "1.04e-23 = 1e-06 x the mean contact force 1.04e-17); relax it")
+    monkeypatch.setattr(ens, "packing_stability", marginal)
+    row = ens.one(32, 0.9, 0, log=lambda m: None)
+    assert not row["use"] and row["stability"]["reason"].startswith("marginal")
+    assert "4.4e-15" in row["stability"]["reason"]
