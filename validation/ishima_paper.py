@@ -225,8 +225,11 @@ def _ms(xs):
 
 
 def _used(got, n, phi):
-    """Seeds of (n, phi) whose packing the rule keeps and whose rigidity is done."""
-    return sorted(s for (m, p, s, piece) in got if m == n and p == phi and piece == "rigidity")
+    """Seeds of (n, phi) whose packing the rule keeps (its ensemble row at hand) and whose
+    rigidity is done."""
+    return sorted(s for (m, p, s, piece) in got if m == n and p == phi and piece == "rigidity"
+                  and (m, p, s, "ensemble") in got
+                  and json.loads(got[(m, p, s, "ensemble")]["row"])["use"])
 
 
 def ensemble_table(got):
@@ -563,6 +566,7 @@ def report(doc, done, total, stamp):
          "## Ensemble", "", "| N | phi | samples | used | excluded |", "|---|---|---|---|---|"]
     for c in doc["ensemble"]["summary"].values():
         ex = "; ".join(f"seed {e['seed']}: {e['reason']}" for e in c["excluded"]) or "-"
+        ex = ex.replace("|", "\\|")          # a reason's |F| would split the table cell
         L.append(f"| {c['n']} | {c['phi']:g} | {c['samples']} | {c['used']} | {ex} |")
     kts = doc["rig_kts"]
     for fig, key in (("Fig. 4 (G) and Fig. 6 (G_NA)", "fig4"), ("Fig. 5 (G)", "fig5")):
