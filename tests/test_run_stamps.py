@@ -2,11 +2,13 @@
 ``units_changed``, used by ``validation/precursor_study.py``): a cached run is reused only while
 every function it executed is unchanged."""
 
+import dataclasses
 import importlib.util
 import json
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 VALIDATION = Path(__file__).resolve().parents[1] / "validation"
@@ -74,11 +76,16 @@ def test_a_removed_module_stales_the_stamp(toy):
     assert fp.units_changed(units, root) == ["fricstab/toy_mod.py"]
 
 
-def test_precursor_runs_are_fresh_only_under_their_stamp():
-    spec = importlib.util.spec_from_file_location("precursor_study_for_stamps",
+def _precursor_study():
+    spec = importlib.util.spec_from_file_location("precursor_study_for_store",
                                                   VALIDATION / "precursor_study.py")
     ps = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(ps)
+    return ps
+
+
+def test_precursor_runs_are_fresh_only_under_their_stamp():
+    ps = _precursor_study()
     assert ps.fresh({"code": ps.code_hash()})
     assert not ps.fresh({"code": "0" * 16})
     assert not ps.fresh({})
@@ -103,3 +110,24 @@ def test_a_record_carries_the_code_of_the_cached_runs_it_read(toy):
     whole = fp.add_units({"modules": {}}, {"fricstab/toy_mod.py": {"*": "0" * 16}})
     assert whole["modules"] == {"fricstab/toy_mod.py": "0" * 16}       # a numba module whole
     assert fp.add_units({"modules": {}}, None) == {"modules": {}}
+
+
+def test_a_checkpoint_continues_only_the_packing_it_was_made_on(tmp_path):
+    """The committed store (``validation/runs/``) travels between machines, and seeded FIRE
+    can reach another packing on another CPU: the packing is kept beside the runs
+    (``_packing`` reads it back bit for bit), and a checkpoint carries its backbone's digest,
+    so a path is never continued on other positions (a clear error, not a silent mix)."""
+    from fricstab.errors import ParameterError
+    from fricstab.scenes.packing_friction import backbone
+    ps = _precursor_study()
+    p = ps._packing(tmp_path, 32, 0)
+    again = ps._packing(tmp_path, 32, 0)
+    assert (tmp_path / "packings" / "n32_phi0.9_s0.npz").exists()
+    assert np.array_equal(p.pos, again.pos) and np.array_equal(p.diameter, again.diameter)
+    bb = backbone(p)
+    ckpt = tmp_path / "run.checkpoints"
+    ps.one_run(bb, "hertz", {}, 2e-3, 5e-4, ckpt, every=1)
+    assert any(ckpt.iterdir())
+    moved = dataclasses.replace(bb, pos=bb.pos + 1e-9)
+    with pytest.raises(ParameterError, match="backbone"):
+        ps.one_run(moved, "hertz", {}, 2e-3, 5e-4, ckpt, every=1)

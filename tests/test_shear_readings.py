@@ -4,6 +4,7 @@ compares them (``validation/shear_protocol.py``) on a tiny cell."""
 
 import json
 import math
+import shutil
 import sys
 from pathlib import Path
 
@@ -57,7 +58,8 @@ def test_protocol_study_on_a_tiny_cell(tmp_path):
     import shear_protocol as sp
     sp.SCALES["tiny"] = {"n": 40, "strain": 0.01, "gamma0": 0.002}
     try:
-        rows = {r: {"0": sp.one("tiny", r, 0, tmp_path / "cache", log=lambda m: None)}
+        rows = {r: {"0": sp.one("tiny", r, 0, tmp_path / "cache", log=lambda m: None,
+                                store=tmp_path / "store")}
                 for r in sp.READINGS}
         summary = sp.summarise(rows)
         sp.write(rows, summary, "tiny", [0], tmp_path)
@@ -75,12 +77,20 @@ def test_protocol_study_on_a_tiny_cell(tmp_path):
         assert 0.0 <= o["rate"] <= 1.0 and math.isfinite(o["tau_mean"])
         assert o["n_slips"] >= 0
     assert "not judged" in doc["verdict"]
-    # a cached run is reused (no new run: the log stays silent), a changed one is not
+    # a stored run is reused (no new run: the log stays silent), and from the store alone:
+    # the run's own folder (frames: not committed) is not needed
+    assert (tmp_path / "store" / "tiny" / "damping_s0.npz").exists()
+    shutil.rmtree(tmp_path / "cache")
     logged = []
     sp.SCALES["tiny"] = {"n": 40, "strain": 0.01, "gamma0": 0.002}
     try:
-        sp.one("tiny", "damping", 0, tmp_path / "cache", log=logged.append)
+        again = sp.one("tiny", "damping", 0, tmp_path / "cache", log=logged.append,
+                       store=tmp_path / "store")
+        # other parameters (a longer strain) are run again, not read from the store
+        sp.SCALES["tiny"] = {"n": 40, "strain": 0.012, "gamma0": 0.002}
+        assert sp.one("tiny", "damping", 0, tmp_path / "cache", run=False,
+                      store=tmp_path / "store") is None
     finally:
         del sp.SCALES["tiny"]
-    assert logged == []
+    assert logged == [] and again == rows["damping"]["0"]
     assert np.isfinite(summary["damping"]["rate"]["mean"])

@@ -6,7 +6,7 @@ Figs. 4 and 6 at N = 1,024 (5 samples per phi, Sec. II), Figs. 5, 7-10, 14 and 1
 (10 samples), phi = 0.83-0.90.  Two tiers:
 
 ``--tier paper``  that scale (``hours`` to days on one core; resumable: every piece is cached
-                  per packing with the code that made it, ``validation/.ishima_paper/``);
+                  per packing with the code that made it, ``validation/runs/ishima_paper/``, committed);
 ``--tier quick``  the same pipeline at N = 64, 3 samples, phi = 0.84, 0.87, 0.90 (a minute;
                   CI runs it, ``validation/test_ishima_paper.py``).
 
@@ -48,7 +48,11 @@ from fricstab.analysis.rigidity import linear_response, rigidity  # noqa: E402
 from fricstab.protocols.stepstrain import step_strain  # noqa: E402
 from fricstab.scenes.packing_friction import Backbone, backbone  # noqa: E402
 
-CACHE = HERE / ".ishima_paper"
+CACHE = HERE / ".ishima_paper"       # the quick tier's pieces (git-ignored)
+#: the paper tier's pieces and packings: committed (``validation/runs/README.md``), so a run
+#: spread over sittings on other machines goes on where it stopped, each piece beside the
+#: packing it was computed on (seeded FIRE is chaotic: another CPU can reach another packing)
+STORE = HERE / "runs" / "ishima_paper"
 #: kT/kN of the rigidity sweep (0: the frictionless Hessian)
 RIG_KTS = (0.0, 1e-8, 1e-6, 1e-4, 1e-2, 0.1, 0.5, 1.0, 2.0, 5.0, 10.0)
 CHECK_KTS = (1e-4, 1.0, 10.0)        # Fig. 4: mode sum and step strain beside the solve
@@ -70,6 +74,20 @@ TIERS = {
 
 
 # ------------------------------------------------------------------ pieces, per packing
+
+def use_store(tier):
+    """Point the piece and packing caches at the tier's store (the paper tier: :data:`STORE`)."""
+    global CACHE
+    if tier == "paper":
+        CACHE = STORE
+        _packings.CACHE = STORE / "packings"
+
+
+def _modes(**arrays):
+    """Per-mode arrays as float32 (7 digits: far below any bin, threshold or statistic the
+    analyses use; half the bytes the committed store holds)."""
+    return {k: np.asarray(v, np.float32) for k, v in arrays.items()}
+
 
 def _path(n, phi, seed, piece):
     return CACHE / f"{ishima_ensemble._key(n, phi, seed)}_{piece}.npz"
@@ -122,7 +140,7 @@ def spectrum_piece(bb, kt):
     sp = spectrum(jac, route="symmetric")
     _, psi_r, p = participation(sp.right, 3 if kt > 0 else 2)
     keep = np.sort(np.argsort(np.abs(sp.eigenvalues.real))[2:])
-    return {"omega": sp.omega[keep], "psi_r": psi_r[keep], "p": p[keep],
+    return {**_modes(omega=sp.omega[keep], psi_r=psi_r[keep], p=p[keep]),
             "seconds": np.float64(sp.seconds)}
 
 
@@ -138,8 +156,8 @@ def rattler_piece(pk, bb, kt):
     rattler = np.ones(pk.n, bool)
     rattler[bb.keep] = False
     weight = (np.abs(sp.right) ** 2).reshape(pk.n, 3, -1).sum(axis=1)[rattler].sum(axis=0)
-    return {"omega": sp.omega[keep], "psi_r": psi_r[keep], "p": p[keep],
-            "w_rattler": weight[keep], "seconds": np.float64(sp.seconds)}
+    return {**_modes(omega=sp.omega[keep], psi_r=psi_r[keep], p=p[keep],
+                     w_rattler=weight[keep]), "seconds": np.float64(sp.seconds)}
 
 
 def plan(tier):
@@ -731,6 +749,7 @@ def figure(doc, got, path):
 
 def run(tier="quick", out=HERE, max_hours=None, log=print, figures=True, compute_missing=True):
     """Compute (or read) the tier and write its report; returns the document."""
+    use_store(tier)
     got, units, pending = run_pieces(tier, max_hours, log, compute_missing)
     doc = analyse(got, tier)
     done, total = len(got), len(got) + len(pending)
@@ -762,6 +781,7 @@ def main(argv=None):
     if a.max_hours is not None and not a.max_hours > 0:
         ap.error("--max-hours must be positive")
     if a.plan:
+        use_store(a.tier)
         todo = plan(a.tier)
         have = sum(_path(*t).exists() for t in todo)
         print(f"{len(todo)} pieces, {have} cached (fresh or not) in {CACHE}")

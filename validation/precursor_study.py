@@ -36,10 +36,12 @@ from fricstab.analysis.aqs import detect_drops  # noqa: E402
 from fricstab.analysis.precursors import permutation_test, power, window_power  # noqa: E402
 from fricstab.io.files import atomic_write, json_clean  # noqa: E402
 from fricstab.protocols.aqs import run_aqs, spectrum  # noqa: E402
-from fricstab.scenes.packing import make_packing  # noqa: E402
+from fricstab.scenes.packing import Packing, make_packing  # noqa: E402
 from fricstab.scenes.packing_friction import backbone, frictional, material  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+import _stamped  # noqa: E402
 
 #: (label, law, parameters): rows 0, 3 and 5 of validation/aqs_study.py
 LAWS = [("charan mu=0.1 kt=1", "charan", {"mu": 0.1, "kt": 1.0}),
@@ -55,41 +57,16 @@ SLOW_HOURS = 12.0   # a projection above this is reported as too slow for one si
 CHECKPOINT_EVERY = 10   # strain steps between a path's checkpoints (N = 1,024: ~3 min)
 
 
-def _fingerprint():
-    """:mod:`claims.fingerprint` (the registry's dependence tracking)."""
-    sys.path.insert(0, str(HERE))
-    import claims.fingerprint as fp
-    return fp
-
-
-def code_hash(root=HERE.parent):
-    """The hash of every module of ``fricstab`` but the CLI (syntax trees without docstrings):
-    the stamp of a run whose executed code could not be traced, and of older runs."""
-    fp = _fingerprint()
-    digest = hashlib.sha256()
-    for rel in fp.package_files(root=root):
-        digest.update(f"{rel}:{fp.module_hash(rel, root)}\n".encode())
-    return digest.hexdigest()[:16]
+_fingerprint = _stamped._fp      # claims.fingerprint, its source hashes memoised
+code_hash = _stamped.code_hash    # the stamp of a run whose executed code was not traced
+_merge = _stamped.merge
 
 
 def fresh(stamp):
     """Whether a run or checkpoint stamped ``stamp`` (its ``units`` and ``code``) was made by
-    the code of the checkout: every function it executed unchanged (``units``,
-    :func:`claims.fingerprint.code_units`), or, without them, every fricstab module."""
-    units = str(stamp.get("units", ""))
-    if units:
-        return not _fingerprint().units_changed(json.loads(units))
-    return str(stamp.get("code", "")) == code_hash()
-
-
-def _merge(a, b):
-    """The union of two ``code_units`` (None: untraced, stays None)."""
-    if a is None or b is None:
-        return None
-    out = {m: dict(u) for m, u in a.items()}
-    for m, u in b.items():
-        out.setdefault(m, {}).update(u)
-    return out
+    the code of the checkout (:func:`_stamped.fresh`: every function it executed unchanged,
+    or, without ``units``, every fricstab module)."""
+    return _stamped.fresh(str(stamp.get("units", "")), str(stamp.get("code", "")))
 
 
 def _key(n, seed, label, strain, dgamma):
@@ -110,8 +87,13 @@ def one_run(bb, law, params, strain, dgamma, ckpt_dir=None, every=CHECKPOINT_EVE
     spent, prior = 0.0, {}
     if ckpt_dir is not None:
         from fricstab.io.checkpoint import Checkpointer
+        # the backbone's digest: a checkpoint continues only the packing it was made on
+        # (seeded FIRE is chaotic: another CPU can reach another packing of the same seed)
+        digest = hashlib.sha256(np.ascontiguousarray(bb.pos).tobytes()
+                                + np.ascontiguousarray(bb.radius).tobytes()).hexdigest()[:16]
         ck = Checkpointer(ckpt_dir, {"law": law, "params": params, "strain": strain,
-                                     "dgamma": dgamma, "n": int(fr.system.n)})
+                                     "dgamma": dgamma, "n": int(fr.system.n),
+                                     "backbone": digest})
         resume = ck.latest()
         if resume is not None and "code" not in resume and (ckpt_dir / "code").exists():
             resume["code"] = (ckpt_dir / "code").read_text()     # adopted (_adopt)
@@ -244,7 +226,7 @@ def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
         path, r = cached(n, seed, label)
         if r is None:
             if (n, seed) not in packings:
-                packings = {(n, seed): backbone(make_packing(n, 0.9, seed))}
+                packings = {(n, seed): backbone(_packing(cache, n, seed))}
             ckpt = None if path is None else cache / f"{path.stem}.checkpoints"
             if ckpt is not None:
                 _adopt(cache, path.stem, ckpt)
@@ -259,6 +241,24 @@ def collect(sizes, seeds, laws, strain, dgamma, cache, resume, log=print):
                 + (f" (stopped: {r['failure']})" if r["failure"] else ""))
         runs.setdefault((label, n), []).append(dict(r, seed=seed))
     return runs
+
+
+def _packing(cache, n, seed):
+    """The phi = 0.90 packing of ``seed``, kept in ``cache/packings`` beside the runs and
+    checkpoints made on it (a resumed path must meet the packing it started on)."""
+    if cache is None:
+        return make_packing(n, 0.9, seed)
+    path = cache / "packings" / f"n{n}_phi0.9_s{seed}.npz"
+    if path.exists():
+        return Packing.load(path)
+    p = make_packing(n, 0.9, seed)
+    path.parent.mkdir(parents=True, exist_ok=True)
+
+    def write(tmp):
+        with open(tmp, "wb") as f:
+            p.save(f)
+    atomic_write(path, write)       # a killed process leaves no half packing
+    return p
 
 
 def _adopt(cache, stem, ckpt):

@@ -27,9 +27,12 @@ far each reading moves the observables, not which one is right.
     python validation/shear_protocol.py --scale quick --seeds 0 1 2     # ~1 h on one core
     python validation/shear_protocol.py --scale decide --seeds 0 1 2    # 1,000 disks, kappa 1e4
 
-Runs are cached per (scale, reading, seed) under ``--cache`` (default
-``validation/.shear_protocol``) and reused when their parameters match; ``--no-run``
-tabulates the cached ones.  Writes ``<out>/shear_protocol_<scale>.md`` and ``.json``.
+Each run's observables are kept in the committed store ``validation/runs/shear_protocol``
+(``validation/runs/README.md``) with its parameters and the code it executed
+(``validation/_stamped.py``), and reused while both are unchanged, so the study spreads over
+sittings on any machine; the run itself (frames, series: too big for git) goes to ``--cache``
+(default ``validation/.shear_protocol``, git-ignored).  ``--no-run`` tabulates the stored
+runs.  Writes ``<out>/shear_protocol_<scale>.md`` and ``.json``.
 """
 
 import argparse
@@ -43,6 +46,9 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
+
+import _stamped  # noqa: E402
 
 from fricstab.scenes.shear import damping_ratio, kappa_from_kn  # noqa: E402
 
@@ -104,23 +110,34 @@ def observables(folder, p):
             "pressure_over_estar": 1.0 / p["kappa"], "alpha_n": p["alpha_n"]}
 
 
-def one(scale, reading, seed, cache, run=True, log=print):
-    """The observables of one run (cached), or None when not cached and not ``run``."""
+#: the observables of finished runs, committed (module docstring)
+STORE = HERE / "runs" / "shear_protocol"
+
+
+def one(scale, reading, seed, cache, run=True, log=print, store=STORE):
+    """The observables of one run: from ``store`` while its parameters and executed code are
+    unchanged; else (``run``) the run into ``cache`` and its observables, stored; else None."""
     from fricstab.cli.shear import run_shear
-    p = params(scale, reading, seed)
+    p = json.loads(json.dumps(params(scale, reading, seed)))
+    path = Path(store) / scale / f"{reading}_s{seed}.npz"
+    got = _stamped.stored(path)
+    if got is not None and json.loads(got["params"]) == p:
+        return json.loads(got["observables"])
+    if not run:
+        return None
     out = cache / scale / f"{reading}_s{seed}"
-    rec_path = out / "shear.json"
-    fresh = (rec_path.exists()
-             and json.loads(rec_path.read_text()).get("parameters") == json.loads(json.dumps(p)))
-    if not fresh:
-        if not run:
-            return None
+
+    def compute():          # under the tracer: the stamp names the code the run executed
         t0 = time.perf_counter()
         log(f"{scale} {reading} seed {seed}: running (kappa E*/P = {p['kappa']:.4g}, "
             f"alpha_n = {p['alpha_n']:.3g})")
         run_shear(p, out, force=True, argv=["validation/shear_protocol.py"], log=lambda s: None)
         log(f"  done in {time.perf_counter() - t0:.0f} s")
-    return observables(out, p)
+        return {"observables": np.str_(json.dumps(observables(out, p))),
+                "params": np.str_(json.dumps(p))}
+    if path.exists():
+        path.unlink()       # other parameters: cached() would reuse a fresh stamp
+    return json.loads(_stamped.cached(path, compute, log=log)["observables"])
 
 
 def summarise(rows):
@@ -193,17 +210,19 @@ def main(argv=None):
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     ap.add_argument("--cache", type=Path, default=HERE / ".shear_protocol")
     ap.add_argument("--out", type=Path, default=HERE)
-    ap.add_argument("--no-run", action="store_true", help="tabulate cached runs only")
+    ap.add_argument("--store", type=Path, default=STORE,
+                    help="the committed observables of finished runs (default %(default)s)")
+    ap.add_argument("--no-run", action="store_true", help="tabulate stored runs only")
     a = ap.parse_args(argv)
     rows = {}
     for reading in a.readings:
         for seed in a.seeds:
             o = one(a.scale, reading, seed, a.cache, not a.no_run,
-                    log=lambda m: print(m, flush=True))
+                    log=lambda m: print(m, flush=True), store=a.store)
             if o is not None:
                 rows.setdefault(reading, {})[str(seed)] = o
     if not rows:
-        print("no runs cached for these readings and seeds (drop --no-run to run them)")
+        print("no runs stored for these readings and seeds (drop --no-run to run them)")
         return 1
     summary = summarise(rows)
     write(rows, summary, a.scale, a.seeds, a.out)

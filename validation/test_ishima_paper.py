@@ -147,3 +147,21 @@ def test_the_report_of_what_is_done_computes_nothing(quick, tmp_path):
     assert part["pieces_done"] == doc["pieces_done"] - 1
     assert part["cost"]["pending"] == 1 and part["cost"]["projected_seconds"] > 0
     assert "(the scale reached" in (tmp_path / "ishima_paper_quick.md").read_text()
+
+
+def test_the_paper_tier_keeps_its_pieces_in_the_committed_store(monkeypatch):
+    """The paper tier runs over many sittings, possibly on other machines: its pieces and the
+    packings they were computed on go to ``validation/runs/ishima_paper`` (committed), the
+    quick tier's stay in the git-ignored cache; per-mode arrays are stored as float32."""
+    monkeypatch.setattr(ip, "CACHE", ip.CACHE)
+    monkeypatch.setattr(_packings, "CACHE", _packings.CACHE)
+    before = ip.CACHE
+    ip.use_store("quick")
+    assert ip.CACHE == before          # the git-ignored cache (or a test's)
+    ip.use_store("paper")
+    assert ip.CACHE == HERE / "runs" / "ishima_paper"
+    assert _packings.CACHE == ip.CACHE / "packings"
+    assert ip._path(1024, 0.9, 0, "rigidity").parent == ip.CACHE
+    out = ip._modes(omega=np.array([1e-3, 2.0]), psi_r=[0.5, 1.0])
+    assert {v.dtype for v in out.values()} == {np.dtype(np.float32)}
+    np.testing.assert_allclose(out["omega"], [1e-3, 2.0], rtol=1e-7)

@@ -13,7 +13,7 @@ from .core import Claim, Result, Verdict
 
 JOB = "packing.ishima_paper"
 COMMAND = ("python validation/ishima_paper.py --tier paper (N = 1,024 x 5 and 4,096 x 10 "
-           "packings, phi = 0.83-0.90; resumable: validation/.ishima_paper/)")
+           "packings, phi = 0.83-0.90; resumable from the committed store validation/runs/ishima_paper/)")
 G_KTS = (0.0, 1e-4, 1.0, 10.0)
 
 

@@ -19,7 +19,7 @@ INTRO = ("`validation/precursor_study.py` (how-to: docs/howto/aqs.md, \"The rank
          "dynamic path.")
 
 RANKED_COMMAND = ("python validation/precursor_study.py --sizes 64 --seeds 4 "
-                  "--prefix precursor_study_n64 --cache validation/.precursor_runs --resume "
+                  "--prefix precursor_study_n64 --cache validation/runs/precursors --resume "
                   "(strain 0.2, dgamma 5e-4)")
 RANKED_LAWS = {"charan": "charan mu=0.1 kt=1", "ishima": "ishima kt=1", "hertz": "hertz"}
 
@@ -119,7 +119,7 @@ def ranked_sentence(v):
 
 SCALE_SIZES = (64, 128, 256, 512, 1024)
 SCALE_SEEDS = (4, 2, 1, 1, 1)
-SCALE_CACHE = "validation/.precursor_runs"
+SCALE_CACHE = "validation/runs/precursors"
 SCALE_COMMAND = ("python validation/precursor_study.py --sizes 64 128 256 512 1024 "
                  f"--seeds 4 2 1 1 1 --cache {SCALE_CACHE} --resume (strain 0.2, dgamma 5e-4; "
                  "about 10 h on one core, resumable: every run and checkpoint is stamped with "
@@ -217,7 +217,7 @@ CLAIMS += [Claim(f"precursors.ranked_{law}", "precursors",
 
 # ------------------------------------------------------------ item 3: frame-indifferent
 
-FI_COMMAND = ("python validation/precursor_fi.py --cache validation/.precursor_runs "
+FI_COMMAND = ("python validation/precursor_fi.py --cache validation/runs/precursors "
               "(N = 64, 4 seeds; ishima, charan beside ishima_fi, charan_fi)")
 FI_LAWS = {"ishima": ("ishima kt=1", "ishima_fi kt=1"),
            "charan": ("charan mu=0.1 kt=1", "charan_fi mu=0.1 kt=1")}
