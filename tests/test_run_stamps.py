@@ -131,3 +131,20 @@ def test_a_checkpoint_continues_only_the_packing_it_was_made_on(tmp_path):
     moved = dataclasses.replace(bb, pos=bb.pos + 1e-9)
     with pytest.raises(ParameterError, match="backbone"):
         ps.one_run(moved, "hertz", {}, 2e-3, 5e-4, ckpt, every=1)
+
+
+def test_the_check_puts_back_the_files_a_recomputed_job_rewrites(tmp_path, monkeypatch):
+    """``reproduce --check`` recomputes the seconds tier in place; another machine renders a
+    figure to other bytes, so the job's outputs (those its record vouches for) are put back
+    afterwards, or the next check would call them edited."""
+    from claims import runner
+    from claims.core import Result
+    monkeypatch.setattr(runner, "ROOT", tmp_path)
+    (tmp_path / "fig.png").write_bytes(b"committed")
+
+    class Job:
+        def compute(self):
+            (tmp_path / "fig.png").write_bytes(b"rendered here")
+            return Result({"x": 1.0})
+    assert runner.recompute(Job(), keep={"fig.png": "digest"}) == {"x": 1.0}
+    assert (tmp_path / "fig.png").read_bytes() == b"committed"

@@ -85,9 +85,23 @@ def values_of(rec):
     return back(json.loads(json.dumps(rec["values"])))
 
 
-def recompute(claim):
-    """Compute a claim's job here, in this process, without recording (the CI check)."""
-    return values_of({"values": _finite_json(claim.compute().values)})
+def recompute(claim, keep=()):
+    """Compute a claim's job here, in this process, without recording (the CI check).
+
+    ``keep``: files (paths from the checkout) the job writes and its record vouches for; they
+    are put back as they were, so a check leaves the tree as it found it (another machine's
+    rendering of a figure differs in bytes, and the next check would call it edited)."""
+    saved = {}
+    for rel in keep:
+        path = ROOT / rel
+        if path.is_file():
+            saved[path] = path.read_bytes()
+    try:
+        return values_of({"values": _finite_json(claim.compute().values)})
+    finally:
+        for path, data in saved.items():
+            if not path.is_file() or path.read_bytes() != data:
+                path.write_bytes(data)
 
 
 __all__ = ["work", "spawn", "recompute", "values_of", "job_claims"]
