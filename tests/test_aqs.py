@@ -167,3 +167,29 @@ def test_event_folders_match_the_record_when_a_birth_is_not_located(tmp_path):
                 assert float(z["le_offset"]) == pytest.approx(g * z["box"][1], rel=1e-12)
     on_disk = {f"events/{p.name}" for p in (out / "events").iterdir()}
     assert on_disk == named
+
+
+def test_a_singular_jacobian_gets_few_least_squares_iterations_before_fire(charan64,
+                                                                          monkeypatch):
+    """A singular bordered solve (a disk that lost its contacts) is retried by least squares
+    for at most SINGULAR_ITER iterations, then FIRE and a polish with the full 60: a
+    least-squares Newton that wanders along near-zero modes cost 2 s an iteration at
+    N = 512 for 60 iterations a step."""
+    system, state = charan64
+    calls = []
+    real = aqs_protocol.newton
+
+    def spy(system, state, tol, *, max_iter, solver, max_step, raise_on_failure):
+        calls.append((solver, max_iter))
+        if solver == "bordered" and len(calls) == 1:
+            raise aqs_protocol.ConvergenceError("singular")   # as singular_guard reports
+        if solver != "bordered" and len(calls) == 2:
+            return real(system, state, tol, max_iter=0, solver=solver, max_step=max_step,
+                        raise_on_failure=False)           # not converged
+        return real(system, state, tol, max_iter=max_iter, solver=solver,
+                    max_step=max_step, raise_on_failure=raise_on_failure)
+    monkeypatch.setattr(aqs_protocol, "newton", spy)
+    _, used_fire = aqs_protocol.relax_step(system, state, 2.5e-4, 1e-13)
+    assert used_fire
+    assert calls[:2] == [("bordered", 60), ("lstsq", aqs_protocol.SINGULAR_ITER)]
+    assert calls[2] == ("bordered", 60)      # the polish after FIRE: the full budget
