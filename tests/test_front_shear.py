@@ -63,3 +63,15 @@ def test_equals_shear_run_by_hand_to_the_bit(result):
 def test_bad_arguments_raise_parameter_error(kwargs):
     with pytest.raises(fs.ParameterError):
         fs.run_shear(**kwargs)
+
+
+def test_the_dry_run_step_model_is_the_run_s_step_count(result):
+    """``fricstab shear run --dry-run``'s time model counts the shear steps by the rule of
+    ``start_shear`` (a copy of that rule in fricstab.cli.budget, which must not drift): the
+    steps per frame of the run times its frames, exactly."""
+    from fricstab.cli import budget
+    frames = round(TINY["strain"] / TINY["dgamma"])
+    assert budget.shear_steps(result.params) == frames * result.steps_per_frame
+    est = budget.shear(result.params, count=3, dry_run=True)
+    assert est["estimated_seconds"] == pytest.approx(
+        3 * frames * result.steps_per_frame * TINY["n"] / budget.SHEAR_PARTICLE_STEPS, abs=0.1)

@@ -28,7 +28,8 @@ import time
 
 from fricstab.errors import ParameterError
 
-__all__ = ["available_memory", "dense_eig", "flop_rate", "require", "gib"]
+__all__ = ["available_memory", "dense_eig", "flop_rate", "require", "gib", "shear",
+           "shear_steps"]
 
 #: refuse when the estimate exceeds this fraction of the available memory
 MEMORY_FRACTION = 0.8
@@ -135,16 +136,18 @@ def _duration(seconds):
 
 
 def require(what, nbytes, flops=0.0, *, advice="use a smaller system", count=1,
-            dry_run=False):
+            dry_run=False, seconds=None):
     """Refuse (``ParameterError``) if ``what`` needs more memory than is available; print
     one line when it will take longer than :data:`ANNOUNCE_SECONDS`; return the estimate
     as a dict (``--dry-run`` prints it; nothing is announced then).
 
     ``nbytes`` is the peak of one unit of work, ``flops`` its operations, ``count``
-    how many such units the command runs one after another.
+    how many such units the command runs one after another; ``seconds`` (of all of them)
+    replaces the flop model where the time has another model.
     """
     avail = available_memory()
-    seconds = count * flops / flop_rate() if flops else 0.0
+    if seconds is None:
+        seconds = count * flops / flop_rate() if flops else 0.0
     estimate = {"what": what, "peak_memory_bytes": int(nbytes),
                 "available_memory_bytes": int(avail), "estimated_seconds": round(seconds, 1)}
     if nbytes > MEMORY_FRACTION * avail:
@@ -196,8 +199,35 @@ def packing(what, opened, params, count, *, route="dense", vectors=True, dry_run
 SHEAR_BYTES_PER_DISK = 2048
 
 
-def shear(n, *, dry_run=False):
-    """The memory estimate of a shear cell of ``n`` bulk disks (its time is announced by
-    the run's own progress)."""
-    return require(f"shear run ({n} bulk disks)", SHEAR_BYTES_PER_DISK * int(n),
-                   advice="use a smaller --n", dry_run=dry_run)
+#: particle-steps per second of the shear cell's integrator on one thread: the paper-preset
+#: run (1,067 disks, 8.2e7 steps in 5.7 h, validation/shear_paper.md) sheared at about 4e6
+SHEAR_PARTICLE_STEPS = 4e6
+
+
+def shear_steps(params):
+    """Integration steps of the shear stage of validated shear-scene ``params``: frames
+    ``strain / dgamma`` times the steps per frame ``ceil(dgamma / (gamma_dot dt_frac t_c))``
+    (the rule of :meth:`fricstab.protocols.shear_run.ShearSim.start_shear`, in reduced
+    units: pressure 1/kappa, gamma_dot = I sqrt(P) / 2, t_c = r_min / sqrt(2) in mean radii)."""
+    r_mean = (params["r_min"] + params["r_max"]) / 2.0
+    t_c = params["r_min"] / r_mean / math.sqrt(2.0)
+    gamma_dot = params["inertial_number"] * math.sqrt(1.0 / params["kappa"]) / 2.0
+    per_frame = max(1, math.ceil(params["dgamma"] / (gamma_dot * params["dt_frac"] * t_c)))
+    return math.ceil(params["strain"] / params["dgamma"]) * per_frame
+
+
+def shear(params, *, count=1, dry_run=False):
+    """The estimate of ``count`` shear runs of validated scene ``params``: memory by
+    :data:`SHEAR_BYTES_PER_DISK`, time of the shear stage on one thread by
+    :data:`SHEAR_PARTICLE_STEPS` (good to a factor of ~2; the preparation comes on top,
+    at most ``prep_max_steps`` steps; the run's own progress bar has the measured rate)."""
+    n = int(params["n"])
+    steps = shear_steps(params)
+    seconds = count * steps * n / SHEAR_PARTICLE_STEPS
+    runs = "shear run" if count == 1 else f"{count} shear runs"
+    estimate = require(f"{runs} ({n} bulk disks, {steps:.3g} steps of shear)",
+                       SHEAR_BYTES_PER_DISK * n, advice="use a smaller --n", dry_run=dry_run,
+                       seconds=seconds)
+    return {**estimate, "shear_steps": steps, "prep_max_steps": int(params["prep_max_steps"]),
+            "time_model": f"{SHEAR_PARTICLE_STEPS:.0e} particle-steps/s on one thread, shear "
+                          "only (the preparation comes on top)"}

@@ -431,7 +431,7 @@ def jacobian_state(params, out, *, force=False, argv=None, log=print):
 def _run(ns, argv):
     from fricstab.cli import budget
     params = _params_of(ns)
-    estimate = budget.shear(params["n"], dry_run=ns.dry_run)
+    estimate = budget.shear(params, dry_run=ns.dry_run)
     if ns.dry_run:
         print(json.dumps({**params, "estimate": estimate}, indent=2))
         return 0

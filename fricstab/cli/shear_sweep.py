@@ -197,7 +197,7 @@ def sweep(ns, argv, shear):
     mus = list(ns.mus)
     params = {(m, s): _member_params(ns, m, s, shear) for m in mus for s in seeds}
     base = params[mus[0], seeds[0]]
-    estimate = budget.shear(base["n"], dry_run=ns.dry_run)
+    estimate = budget.shear(base, count=len(params), dry_run=ns.dry_run)  # one thread
     common = {k: v for k, v in base.items() if k not in ("seed", "law_params")}
     common["law_params"] = {k: v for k, v in base["law_params"].items() if k != "mus"}
     protocol = {"mus": mus, "seeds": seeds}
