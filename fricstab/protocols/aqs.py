@@ -13,8 +13,8 @@ eigenvalue (a saddle: the branch ended in a plastic event), the step is
 relaxed by FIRE from the affine state (damped dynamics, history by the
 increment rule) to ``FIRE_TOL`` and polished by Newton; the step is then
 flagged ``fire``.  A singular bordered solve (a disk that lost its contacts)
-is retried by least squares, for at most :data:`SINGULAR_ITER` iterations
-before FIRE (the polish after FIRE may take the full 60).  A step that still has no equilibrium raises
+is retried by least squares, for at most ``singular_iter`` iterations
+(:func:`relax_step`) before FIRE (the polish after FIRE may take the full 60).  A step that still has no equilibrium raises
 :class:`~fricstab.errors.ConvergenceError` naming the step and its strain.
 
 Spectrum.  At each relaxed state, the eigenvalues of ``M^-1 K`` (``K = dF/dq``,
@@ -50,8 +50,7 @@ from fricstab.protocols.ramp import _match
 from fricstab.protocols.stepstrain import affine_step, shear_stress
 from fricstab.scenes.packing_relax import singular_guard
 
-__all__ = ["AQSResult", "Event", "MAX_STEP", "SINGULAR_ITER", "TOL_ULPS", "ZERO_CLUSTER",
-           "check_strain",
+__all__ = ["AQSResult", "Event", "MAX_STEP", "TOL_ULPS", "ZERO_CLUSTER", "check_strain",
            "check_tol", "pairs",
            "reduced_matrix", "relax_step", "run_aqs", "spectrum"]
 
@@ -59,12 +58,6 @@ MAX_STEP = 2e-3        # largest coordinate change of one Newton iteration, in d
 ZERO_CLUSTER = 1e-6    # pairs with |lambda| below this times max |lambda| are zero modes
 FIRE_TOL = 1e-9        # FIRE fallback, before the Newton polish
 FIRE_MAX_ITER = 2_000_000
-#: Least-squares Newton iterations tried on a singular Jacobian before FIRE.  Measured at
-#: N = 512 (charan, strain 0.036, a disk without contacts and one with a single contact): the
-#: least-squares iterates wander along the near-zero modes (residual 8e-5 -> 1e-6 in 30
-#: iterations, never converging) at 2 s an iteration, while FIRE and the polish take
-#: seconds; a Newton that converges from the affine state does so in a few iterations.
-SINGULAR_ITER = 8
 EVENT_COLUMNS = ("kind", "step", "gamma_lo", "gamma_hi", "center", "radius", "bisections",
                  "located", "growth_hi")
 
@@ -144,17 +137,24 @@ def _newton(system, state, f_tol, max_iter=60, singular_iter=None):
                       raise_on_failure=False)
 
 
-def relax_step(system, prev, dgamma, f_tol, where="", use_fire=False):
+def relax_step(system, prev, dgamma, f_tol, where="", use_fire=False, singular_iter=8):
     """The equilibrium after an affine step ``dgamma`` from ``prev`` (a copy); (state, fire used).
 
     Newton first (unless ``use_fire``); FIRE and a Newton polish if it fails.
     Raises :class:`ConvergenceError` naming ``where`` when neither converges.
+
+    ``singular_iter``: least-squares Newton iterations tried on a singular Jacobian before
+    FIRE (the polish after FIRE may take the full 60).  Measured at N = 512 (charan, strain
+    0.036, a disk without contacts and one with a single contact): the least-squares
+    iterates wander along the near-zero modes (residual 8e-5 -> 1e-6 in 30 iterations, never
+    converging) at 2 s an iteration, while FIRE and the polish take seconds; a Newton that
+    converges from the affine state does so in a few iterations.
     """
     affine = affine_step(system, prev, dgamma)
     if not use_fire:
         s = affine.copy()
         try:
-            if _newton(system, s, f_tol, singular_iter=SINGULAR_ITER).converged:
+            if _newton(system, s, f_tol, singular_iter=singular_iter).converged:
                 return s, False
         except ConvergenceError:
             pass
