@@ -61,7 +61,11 @@ TOLERANCES = {
     },
     "packing_dos": {
         "exponent": ("abs", 1e-6, "fit of bin centres that do not move under round-off"),
-        "peak": ("rel", 1e-12, "bin centres: discrete"),
+        "peak": ("rel", 1e-9, "the median omega of the rotation-dominated modes, not a bin "
+                 "centre: an eigenvalue moves by ~eps |J| (|J| ~ 10 t0^-2) under another "
+                 "summation order (BLAS threads), omega = sqrt(lambda) by eps |J| / (2 omega) "
+                 "= 1.5e-11 at the smallest median 7.6e-5; 1e-9 of the largest (7.6e-2) bounds "
+                 "it 5-fold (measured: 1.2e-13 between 1 and 2 BLAS threads)"),
         "lowest_omega": ("rel", 1e-6, "smallest nonzero eigenvalue: eps max/min relative"),
     },
     "packing_dynamics": {
