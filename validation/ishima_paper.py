@@ -567,7 +567,8 @@ def analyse(got, tier):
         "fig4": fig4, "fig5": fig5,
         "sign_change": sign_change(fig4),
         "linear": [proportional_test(fig4, k) for k in (0.0, 1.0, big)],
-        "factorisation": [factorisation_test(tab, k, n) for n, tab in ((n4, fig4), (nd, fig5))
+        "factorisation": [factorisation_test(tab, k, n) for n, tab in
+                          ((n4, fig4),) + (((nd, fig5),) if nd != n4 else ())
                           for k in (1e-4, 1.0, big)],
         "limit": limit_table(fig5),
         "bands": bands, "fig7_b2": b2,
