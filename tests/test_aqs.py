@@ -193,3 +193,40 @@ def test_a_singular_jacobian_gets_few_least_squares_iterations_before_fire(chara
     assert used_fire
     assert calls[:2] == [("bordered", 60), ("lstsq", 8)]
     assert calls[2] == ("bordered", 60)      # the polish after FIRE: the full budget
+
+def test_a_stalled_polish_is_restarted_by_least_squares_from_the_fire_state(charan64,
+                                                                            monkeypatch):
+    """A bordered Newton that ends unconverged without raising (a nearly singular Jacobian:
+    N = 512 hertz, strain step 34, stalled at 8.7e-10 where least squares converges in 2) is
+    restarted by least squares from the state it started from, with the full 60."""
+    system, state = charan64
+    calls, starts = [], []
+    real = aqs_protocol.newton
+
+    def spy(system, st, tol, *, max_iter, solver, max_step, raise_on_failure):
+        calls.append((solver, max_iter))
+        starts.append(st.q.copy())
+        if solver == "bordered":        # a stall: it moves the state, ends unconverged
+            st.q[:, :2] += 1e-7
+            return real(system, st, tol, max_iter=0, solver=solver, max_step=max_step,
+                        raise_on_failure=False)
+        return real(system, st, tol, max_iter=max_iter, solver=solver, max_step=max_step,
+                    raise_on_failure=raise_on_failure)
+    monkeypatch.setattr(aqs_protocol, "newton", spy)
+    relaxed, used_fire = aqs_protocol.relax_step(system, state, 2.5e-4, 1e-13)
+    assert used_fire
+    # before FIRE a stall goes to FIRE (a plastic event: least squares would wander)
+    assert calls == [("bordered", 60), ("bordered", 60), ("lstsq", 60)]
+    assert np.array_equal(starts[2], starts[1])     # restarted from the FIRE state
+    assert np.abs(aqs_protocol.jacobian(system, relaxed)[0]).max() < 1e-13
+
+
+def test_the_polish_runs_when_fire_runs_out(charan64, monkeypatch):
+    """FIRE at its iteration limit short of 1e-9 (ishima, N = 64, seed 3, step 125: 5.6e-8
+    after 2e6 iterations) still hands its state to the Newton polish."""
+    system, state = charan64
+    monkeypatch.setattr(aqs_protocol, "FIRE_MAX_ITER", 5)
+    relaxed, used_fire = aqs_protocol.relax_step(system, state, 2.5e-4, 1e-13, use_fire=True)
+    assert used_fire
+    assert np.abs(aqs_protocol.jacobian(system, relaxed)[0]).max() < 1e-13
+
