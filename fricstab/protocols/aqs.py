@@ -14,7 +14,10 @@ relaxed by FIRE from the affine state (damped dynamics, history by the
 increment rule) to ``FIRE_TOL`` and polished by Newton; the step is then
 flagged ``fire``.  A singular bordered solve (a disk that lost its contacts)
 is retried by least squares, for at most ``singular_iter`` iterations
-(:func:`relax_step`) before FIRE (the polish after FIRE may take the full 60).  A step that still has no equilibrium raises
+(:func:`relax_step`) before FIRE; the polish after FIRE may take the full 60,
+and is also restarted by least squares when the bordered solve stalls
+unconverged without raising (a nearly singular Jacobian).  A step that still
+has no equilibrium raises
 :class:`~fricstab.errors.ConvergenceError` naming the step and its strain.
 
 Spectrum.  At each relaxed state, the eigenvalues of ``M^-1 K`` (``K = dF/dq``,
@@ -130,9 +133,13 @@ def _newton(system, state, f_tol, max_iter=60, singular_iter=None, retry_stalled
     that: measured at N = 512 (hertz, strain step 34, after FIRE), the bordered Newton stalls
     at max|F| = 8.7e-10 through 60 iterations while least squares converges in 2 to 1.6e-15.
     """
+    # imported here: a module-level import would change the frame every stamped run holds
+    from fricstab._stderr import drop_c_lines
     backup = state.copy()
     try:
-        with singular_guard("Newton relaxation"):
+        # SuperLU on a singular matrix prints BLAS's "illegal value" lines (the singularity
+        # is handled below); they are dropped
+        with singular_guard("Newton relaxation"), drop_c_lines():
             res = newton(system, state, f_tol, max_iter=max_iter, solver="bordered",
                          max_step=MAX_STEP, raise_on_failure=False)
         if res.converged or not retry_stalled:
