@@ -37,6 +37,14 @@ starts running; after it returns, the dependence is read off that process:
   adding a claim beside it does not mark it stale.
 * the data files the claim declares (``inputs``), by their bytes.
 
+A module of the checkout whose file changes on disk while a computation runs (an edit
+during a long run) is hashed as this process loaded it: the texts of the watched files
+are read when this module is imported (:data:`SNAPSHOT`), at the start of the claim's or
+script's process, and a file modified since the process started is hashed from that text,
+so the stamp names the code that ran, and the result goes stale if the edit changed it.
+A file already modified between the process's start and that snapshot is ambiguous: its
+units are recorded as :data:`EDITED`, which matches no hash (stale at once).
+
 Hashes are of syntax trees with docstrings removed (``ast.dump``): comments,
 docstrings and formatting do not change what runs, so editing them does not
 make a claim stale.  Not covered, and said so in the docs: versions of
@@ -54,6 +62,7 @@ import inspect
 import os
 import sys
 import threading
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -64,6 +73,67 @@ MACHINERY = {f"validation/claims/{m}.py" for m in
              ("__init__", "core", "fingerprint", "records", "render", "runner")}
 MACHINERY |= {"validation/reproduce.py"}
 FRAME = "<frame>"      # the key of a module's frame among its units
+#: the hash of a unit whose module's text as run is unknown: matches no hash
+EDITED = "edited-while-running"
+
+
+def _process_start():
+    """Wall-clock time at which this process started (Linux: /proc; elsewhere now, at the
+    import of this module, which the validation scripts import before they compute)."""
+    now = time.time()
+    try:
+        with open("/proc/self/stat") as f:
+            ticks = float(f.read().rsplit(")", 1)[1].split()[19])
+        with open("/proc/stat") as f:
+            boot = next(float(x.split()[1]) for x in f if x.startswith("btime"))
+        return min(boot + ticks / os.sysconf("SC_CLK_TCK"), now)
+    except (OSError, ValueError, IndexError, StopIteration):
+        return now
+
+
+#: modification times after this (/proc's start time less a second for its resolution)
+#: are edits made while this process ran
+STARTED = _process_start() - 1.0
+
+
+def _snapshot(root=ROOT):
+    out = {}
+    for top in WATCHED:
+        for path in (root / top).rglob("*.py"):
+            try:
+                out[path.relative_to(root).as_posix()] = (path.read_text(),
+                                                          path.stat().st_mtime)
+            except (OSError, UnicodeDecodeError):
+                pass
+    return out
+
+
+#: {path: (text, mtime)} of the watched files when this module was imported
+SNAPSHOT = _snapshot()
+_WARNED = set()
+
+
+def _warn(m, what):
+    if m not in _WARNED:
+        _WARNED.add(m)
+        print(f"warning: {m} changed on disk while this process ran: {what}",
+              file=sys.stderr, flush=True)
+
+
+def _source(m, root):
+    """``(text, edited)``: module ``m``'s text as this process ran it; ``edited`` when that
+    is unknown (module docstring)."""
+    path = Path(root) / m
+    text = path.read_text()
+    if Path(root).resolve() != ROOT.resolve() or path.stat().st_mtime <= STARTED:
+        return text, False
+    snap = SNAPSHOT.get(m)
+    if snap is not None and snap[1] <= STARTED:
+        if snap[0] != text:
+            _warn(m, "stamped with the text this process loaded")
+        return snap[0], False
+    _warn(m, "the text that ran is unknown; what it computed is recorded as stale")
+    return text, True
 
 
 def _strip_docstrings(tree):
@@ -419,11 +489,11 @@ def fingerprint(claim, root=ROOT, tracer=None):
     ran = (ran_units(tracer.codes.values(), root)
            if tracer and not (tracer.spawned or tracer.lost) else None)
     for m in sorted(loaded_modules(root)):
-        text = (Path(root) / m).read_text()
+        text, edited = _source(m, root)
         if ran is None or whole_module(m, text):
-            whole[m] = source_hash(text)
+            whole[m] = EDITED if edited else source_hash(text)
             continue
-        hashes = unit_hashes(text)
+        hashes = {u: EDITED for u in unit_hashes(text)} if edited else unit_hashes(text)
         # a unit that ran but is no top-level function (one defined inside an if, say):
         # the frame holds it
         units[m] = {u: hashes[u] for u in sorted(ran.get(m, set()) | {FRAME}) if u in hashes}
@@ -447,11 +517,11 @@ def code_units(tracer, root=ROOT, skip=("fricstab/cli/",)):
     for m in sorted(loaded_modules(root) | set(ran)):
         if m.startswith(tuple(skip)) or not (Path(root) / m).exists():
             continue
-        text = (Path(root) / m).read_text()
+        text, edited = _source(m, root)
         if whole_module(m, text):
-            out[m] = {"*": source_hash(text)}
+            out[m] = {"*": EDITED if edited else source_hash(text)}
             continue
-        hashes = unit_hashes(text)
+        hashes = {u: EDITED for u in unit_hashes(text)} if edited else unit_hashes(text)
         # a validation script's own frame (its tables, constants) is not the computation's
         frame = set() if m.startswith("validation/") else {FRAME}
         out[m] = {u: hashes[u] for u in sorted(ran.get(m, set()) | frame) if u in hashes}

@@ -1,0 +1,58 @@
+"""An edit on disk while a computation runs: its stamp names the code that ran.
+
+A long run (a precursor path, an Ishima piece, a claim) hashes the modules it executed when
+it saves; a file edited meanwhile must not lend the run its new hashes.  The fingerprint
+hashes such a file from the text this process loaded (``SNAPSHOT``), or, where that is
+unknown, records ``EDITED`` (stale at once).
+"""
+
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from claims import fingerprint as fp  # noqa: E402
+
+import fricstab.errors  # noqa: E402
+
+M = "fricstab/errors.py"
+
+
+def _mtime():
+    return (fp.ROOT / M).stat().st_mtime
+
+
+def test_an_untouched_file_is_hashed_as_it_is(monkeypatch):
+    monkeypatch.setattr(fp, "STARTED", _mtime() + 10)
+    assert fp._source(M, fp.ROOT) == ((fp.ROOT / M).read_text(), False)
+
+
+def test_a_file_edited_while_running_is_hashed_as_loaded(monkeypatch):
+    text = (fp.ROOT / M).read_text()
+    loaded = text + "\n_GONE = 1\n"      # the text before the "edit" (a constant: the frame)
+    monkeypatch.setattr(fp, "STARTED", _mtime() - 10)
+    monkeypatch.setitem(fp.SNAPSHOT, M, (loaded, _mtime() - 20))
+    assert fp._source(M, fp.ROOT) == (loaded, False)
+    with fp.Tracer() as tracer:
+        fricstab.errors.check_real("x", 1.0, 0.0)
+    units = fp.code_units(tracer)
+    assert units[M]["check_real"] == fp.unit_hashes(loaded)["check_real"]
+    # the edit removed a constant: the frame the run saw is not the file's
+    assert M in fp.units_changed(units)
+
+
+def test_a_file_edited_before_the_snapshot_is_stale_at_once(monkeypatch):
+    monkeypatch.setattr(fp, "STARTED", _mtime() - 10)
+    monkeypatch.setitem(fp.SNAPSHOT, M, ((fp.ROOT / M).read_text(), _mtime() - 5))
+    with fp.Tracer() as tracer:
+        fricstab.errors.check_real("x", 1.0, 0.0)
+    units = fp.code_units(tracer)
+    assert set(units[M].values()) == {fp.EDITED}
+    assert M in fp.units_changed(units)
+
+
+def test_another_root_is_never_snapshotted(tmp_path):
+    (tmp_path / "fricstab").mkdir()
+    (tmp_path / M).write_text("X = 1\n")
+    assert fp._source(M, tmp_path) == ("X = 1\n", False)
