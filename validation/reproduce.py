@@ -20,6 +20,7 @@ RESULTS.md and the marked blocks are rewritten.
 
 import argparse
 import json
+import os
 import sys
 import time
 from pathlib import Path
@@ -84,6 +85,25 @@ def _select(ns):
     return sel
 
 
+THREAD_VARS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+
+def oversubscribed(load=None, cores=None, env=None):
+    """A warning when other processes already load the machine and this one's BLAS and numba
+    may start a thread per core: threads that wait on each other spin, and a job's measured
+    cost is then several times its cost (precursors.dynamics: 6x, 400 s a run against 60 s
+    with one thread each, on 2 cores beside two single-threaded runs).  None when fine."""
+    load = os.getloadavg()[0] if load is None else load
+    cores = (os.cpu_count() or 1) if cores is None else cores
+    env = os.environ if env is None else env
+    multi = [v for v in THREAD_VARS if env.get(v) != "1"]
+    if load < 0.5 or not multi or cores == 1:
+        return None
+    return (f"the machine is busy (load {load:.1f} on {cores} cores) and {', '.join(multi)} "
+            "not 1: oversubscribed threads spin; for a job beside other processes set "
+            + " ".join(f"{v}=1" for v in THREAD_VARS))
+
+
 def regenerate(selected, resume=False):
     """Run the jobs, one process each; returns (summary lines, failures)."""
     done = []
@@ -98,6 +118,9 @@ def regenerate(selected, resume=False):
     est = sum((records.load(j) or {}).get("wall_s", 0.0) for j in todo)
     print(f"reproduce: {len(todo)} job(s) to run ({len(done)} done before), last recorded "
           f"compute {est:.0f} s", file=sys.stderr)
+    busy = oversubscribed()
+    if busy:
+        print(f"reproduce: warning: {busy}", file=sys.stderr)
     moved, failed, t_all = [], [], time.perf_counter()
     for k, job in enumerate(todo, 1):
         old = records.load(job)

@@ -1,4 +1,6 @@
-"""An edit on disk while a computation runs: its stamp names the code that ran.
+"""Guards of a recording: the stamp names the code that ran; oversubscribed threads named.
+
+An edit on disk while a computation runs: its stamp names the code that ran.
 
 A long run (a precursor path, an Ishima piece, a claim) hashes the modules it executed when
 it saves; a file edited meanwhile must not lend the run its new hashes.  The fingerprint
@@ -56,3 +58,13 @@ def test_another_root_is_never_snapshotted(tmp_path):
     (tmp_path / "fricstab").mkdir()
     (tmp_path / M).write_text("X = 1\n")
     assert fp._source(M, tmp_path) == ("X = 1\n", False)
+
+
+def test_reproduce_warns_of_oversubscribed_threads():
+    import reproduce
+    ones = {v: "1" for v in reproduce.THREAD_VARS}
+    busy = reproduce.oversubscribed(load=3.0, cores=2, env={})
+    assert busy and "NUMBA_NUM_THREADS=1" in busy and "load 3.0 on 2 cores" in busy
+    assert reproduce.oversubscribed(load=3.0, cores=2, env=ones) is None
+    assert reproduce.oversubscribed(load=0.1, cores=2, env={}) is None
+    assert reproduce.oversubscribed(load=3.0, cores=1, env={}) is None
