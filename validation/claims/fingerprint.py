@@ -480,6 +480,16 @@ def _top_level(text):
 
 # ------------------------------------------------------------------ record and compare
 
+def _hashes(m, root, whole=False):
+    """``(hash, None)`` for module ``m`` hashed whole (``whole``, or a module
+    :func:`whole_module` keeps whole), else ``(None, {unit: hash})``: of the text this process
+    ran (:func:`_source`), :data:`EDITED` where that is unknown."""
+    text, edited = _source(m, root)
+    if whole or whole_module(m, text):
+        return (EDITED if edited else source_hash(text)), None
+    return None, ({u: EDITED for u in unit_hashes(text)} if edited else unit_hashes(text))
+
+
 def fingerprint(claim, root=ROOT, tracer=None):
     """The dependence of ``claim`` as recorded now (call after ``compute`` ran, in
     the claim's own process; ``tracer`` is the :class:`Tracer` it ran under, None
@@ -489,11 +499,10 @@ def fingerprint(claim, root=ROOT, tracer=None):
     ran = (ran_units(tracer.codes.values(), root)
            if tracer and not (tracer.spawned or tracer.lost) else None)
     for m in sorted(loaded_modules(root)):
-        text, edited = _source(m, root)
-        if ran is None or whole_module(m, text):
-            whole[m] = EDITED if edited else source_hash(text)
+        whole_hash, hashes = _hashes(m, root, whole=ran is None)
+        if hashes is None:
+            whole[m] = whole_hash
             continue
-        hashes = {u: EDITED for u in unit_hashes(text)} if edited else unit_hashes(text)
         # a unit that ran but is no top-level function (one defined inside an if, say):
         # the frame holds it
         units[m] = {u: hashes[u] for u in sorted(ran.get(m, set()) | {FRAME}) if u in hashes}
@@ -517,11 +526,10 @@ def code_units(tracer, root=ROOT, skip=("fricstab/cli/",)):
     for m in sorted(loaded_modules(root) | set(ran)):
         if m.startswith(tuple(skip)) or not (Path(root) / m).exists():
             continue
-        text, edited = _source(m, root)
-        if whole_module(m, text):
-            out[m] = {"*": EDITED if edited else source_hash(text)}
+        whole_hash, hashes = _hashes(m, root)
+        if hashes is None:
+            out[m] = {"*": whole_hash}
             continue
-        hashes = {u: EDITED for u in unit_hashes(text)} if edited else unit_hashes(text)
         # a validation script's own frame (its tables, constants) is not the computation's
         frame = set() if m.startswith("validation/") else {FRAME}
         out[m] = {u: hashes[u] for u in sorted(ran.get(m, set()) | frame) if u in hashes}
