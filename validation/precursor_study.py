@@ -2,18 +2,21 @@
 
 For charan (mu = 0.1, kT/kN = 1), ishima (kT/kN = 1) and hertz, each size and seed: AQS of the
 rattler-free backbone at phi = 0.90 (:func:`fricstab.protocols.aqs.run_aqs`, births at step
-resolution, ``on_failure="stop"``: strain and dgamma as ``validation/aqs_study.py``), each run
+resolution, ``on_failure="stop"``: strain 0.2 in steps of 5e-4, 400 relaxed states), each run
 cached as one .npz in ``--cache`` (written atomically; ``--resume`` reuses finished runs).
 Per law and N, for four candidates (pair count, largest growth rate, the largest real
 eigenvalue, the smallest ``|Im|`` of the pairs) the ranked test of
 :mod:`fricstab.analysis.precursors` (the onset's rank in its +-W neighbourhood, the permutation
-null, p-value), its power at true preceded fractions 0.5 and 0.8, and the power of the old
-1-step and 4-step birth-window tests against the same fractions.  Before running, the measured
-seconds per state and the projected compute of the requested sizes are printed.
+null, p-value), its power at true preceded fractions 0.5 and 0.8, and the old 1-step and
+4-step birth-window tests (issue 17's statistic, :func:`fricstab.analysis.aqs.compare`: the
+drops with a pair birth in the window up to the onset, against the null of the same window at
+every strain, exact one-sided binomial p) with their power against the same fractions.
+Before running, the measured seconds per state and the projected compute of the requested
+sizes are printed.
 
     python validation/precursor_study.py --sizes 64 128 --seeds 4 2 --cache DIR --resume
     python validation/precursor_study.py --sizes 64 --seeds 4 --prefix precursor_study_n64 \
-        --cache DIR          # what the claims aqs.ranked_* record
+        --cache DIR          # what the claims precursors.ranked_* record
 
 Writes ``<prefix>.md`` (tables), ``.json`` and ``.png`` (onset-rank histograms) under ``--out``.
 """
@@ -32,7 +35,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from fricstab.analysis.aqs import detect_drops  # noqa: E402
+from fricstab.analysis.aqs import compare, detect_drops  # noqa: E402
 from fricstab.analysis.precursors import permutation_test, power, window_power  # noqa: E402
 from fricstab.io.files import atomic_write, json_clean  # noqa: E402
 from fricstab.protocols.aqs import run_aqs, spectrum  # noqa: E402
@@ -43,7 +46,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import _stamped  # noqa: E402
 
-#: (label, law, parameters): rows 0, 3 and 5 of validation/aqs_study.py
+#: (label, law, parameters): the slipping, the no-slip and the frictionless law
 LAWS = [("charan mu=0.1 kt=1", "charan", {"mu": 0.1, "kt": 1.0}),
         ("ishima kt=1", "ishima", {"kt": 1.0}),
         ("hertz", "hertz", {})]
@@ -302,7 +305,8 @@ def _constant(x):
 
 
 def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
-    """Per (law, N): drops, the ranked test and power per candidate, the old tests' power."""
+    """Per (law, N): drops, the ranked test and power per candidate, the old birth-window
+    tests' outcome (preceded drops, p) and power."""
     rows = []
     for i, ((label, n), rs) in enumerate(runs.items()):
         onsets = [[d.step - 1 for d in detect_drops(r["strain"], r["stress"])] for r in rs]
@@ -321,6 +325,12 @@ def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
             row["candidates"][name] = t
         old = _old_runs(rs)
         for w in WINDOW_STEPS:
+            # the old test itself (issue 17's statistic): drops with a birth in the w steps up
+            # to the onset, against the drop-weighted null, one-sided exact binomial p
+            obs = compare(old, w * dgamma)
+            row[f"window{w}_tested"] = int(obs["drops"])
+            row[f"window{w}_preceded"] = int(obs["preceded"])
+            row[f"window{w}_pvalue"] = float(obs["pvalue_greater"])
             rng = np.random.default_rng([seed, i, 100 + w])
             for f in FRACTIONS:
                 wp = window_power(old, w * dgamma, f, n_rep, rng)
@@ -335,7 +345,7 @@ def _g(x, fmt="{:.2f}"):
 
 
 def tables(rows):
-    """Markdown: the ranked test per candidate; the old tests' power."""
+    """Markdown: the ranked test per candidate; the old tests' outcome and power."""
     lines = ["| law | N | runs | drops | candidate | direction | drops ranked | mean rank "
              "(null mean +- sd) | p | power f = 0.5 | power f = 0.8 |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -346,11 +356,14 @@ def tables(rows):
                 f"{'high' if t['alternative'] == 'greater' else 'low'} | {t['drops']} | "
                 f"{_g(t['statistic'])} ({_g(t['null_mean'])} +- {_g(t['null_sd'])}) | "
                 f"{_g(t['pvalue'], '{:.3g}')} | {_g(t['power_0.5'])} | {_g(t['power_0.8'])} |")
-    lines += ["", "| law | N | drops | null p0, 1 step | power 1 step f = 0.5 / 0.8 | "
-              "null p0, 4 steps | power 4 steps f = 0.5 / 0.8 |", "|---|---|---|---|---|---|---|"]
+    lines += ["", "| law | N | drops | " + " | ".join(
+        f"{w} step{'s' if w > 1 else ''}: preceded | null p0 | p | power f = 0.5 / 0.8"
+        for w in WINDOW_STEPS) + " |", "|---|---|---|" + "---|---|---|---|" * len(WINDOW_STEPS)]
     for r in rows:
-        cells = [f"{_g(r[f'window{w}_p0'])} | {_g(r[f'window{w}_power_0.5'])} / "
-                 f"{_g(r[f'window{w}_power_0.8'])}" for w in WINDOW_STEPS]
+        cells = [f"{r[f'window{w}_preceded']}/{r[f'window{w}_tested']} | "
+                 f"{_g(r[f'window{w}_p0'])} | {_g(r[f'window{w}_pvalue'], '{:.2g}')} | "
+                 f"{_g(r[f'window{w}_power_0.5'])} / {_g(r[f'window{w}_power_0.8'])}"
+                 for w in WINDOW_STEPS]
         lines.append(f"| {r['law']} | {r['n']} | {r['drops']} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

@@ -52,7 +52,9 @@ def test_seconds_claim_recomputes_within_tolerance(job):
     rec = records.load(job)
     if rec is None:
         pytest.fail(f"{job} never recorded")
-    old, new = values_of(rec), recompute(JOBS[job][0])
+    # the job's outputs put back afterwards: this machine's rendering of a figure differs in
+    # bytes from the recorded one, and the next test_records_are_sound would call it edited
+    old, new = values_of(rec), recompute(JOBS[job][0], keep=tuple(rec.get("outputs", {})))
     for c in JOBS[job]:
         ok, text = c.check(old, new)
         assert ok, f"{c.name}: {text}"

@@ -37,14 +37,28 @@ def ranked_run():
                   units=doc["units"])
 
 
+KEEP = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
+#: the old 1-step birth-window test (issue 17): drops tested, preceded, p, power at f = 0.8
+OLD = ("window1_tested", "window1_preceded", "window1_pvalue", "window1_power_0.8")
+
+
+def _row(r):
+    """What a claim records of a study row: its drops, the old test and, per candidate, the
+    ranked test's numbers."""
+    return {"drops": r["drops"], **{k: r[k] for k in OLD},
+            "candidates": {c: {k: t[k] for k in KEEP} for c, t in r["candidates"].items()}}
+
+
 def _law_rows(doc):
-    """Per law of a study's document: its drops, the old test's power and per candidate the
-    ranked test's numbers (what the ranked and frame-indifferent claims record)."""
-    keep = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
-    return {r["law"]: {"drops": r["drops"], "window1_power_0.8": r["window1_power_0.8"],
-                       "candidates": {c: {k: t[k] for k in keep}
-                                      for c, t in r["candidates"].items()}}
-            for r in doc["rows"]}
+    """Per law of a study's document: :func:`_row` (what the ranked and frame-indifferent
+    claims record)."""
+    return {r["law"]: _row(r) for r in doc["rows"]}
+
+
+def _old_test(r):
+    """The old 1-step test of a recorded row, in words."""
+    return (f"old 1-step test {r['window1_preceded']}/{r['window1_tested']} preceded (p "
+            f"{r['window1_pvalue']:.2g}), power {r['window1_power_0.8']:.2f} at f = 0.8")
 
 
 def _ranked_show(v, label):
@@ -53,16 +67,24 @@ def _ranked_show(v, label):
     return "; ".join(f"{c} {t['statistic']:.2f} (p {t['pvalue']:.2g}, power "
                      f"{pw(t['power_0.5'])} / {pw(t['power_0.8'])})" if t["statistic"]
                      is not None else f"{c}: no ranked drop"
-                     for c, t in r["candidates"].items()) + \
-        f"; {r['drops']} drops; old 1-step test power {r['window1_power_0.8']:.2f} at f = 0.8"
+                     for c, t in r["candidates"].items()) + f"; {r['drops']} drops; {_old_test(r)}"
 
 
 def _check_ranked(a, b):
     """Each mean rank within 3 combined null sd (its sampling error under the null); each
     power within 4 combined binomial errors of its 400 replicates (+ 0.05 for a drop
-    count that another CPU's rounding moves); an undefined rank stays undefined."""
+    count that another CPU's rounding moves); an undefined rank stays undefined; the old
+    test's preceded fraction within 3 combined binomial errors (at least 1/drops each)."""
     worst = (0.0, "identical")
     for law, x in a.items():
+        y = b.get(law, {})
+        if "window1_tested" in x:
+            fa, fb = (z["window1_preceded"] / max(z["window1_tested"], 1) for z in (x, y))
+            e = 3 * math.hypot(*(max(math.sqrt(f * (1 - f) / max(z["window1_tested"], 1)),
+                                     1 / max(z["window1_tested"], 1))
+                                 for f, z in ((fa, x), (fb, y))))
+            if abs(fa - fb) > e:
+                return False, f"{law} old test: {fa:.2f} -> {fb:.2f} preceded"
         for c, t in x["candidates"].items():
             u = b.get(law, {}).get("candidates", {}).get(c)
             if u is None or (t["statistic"] is None) != (u["statistic"] is None):
@@ -87,19 +109,27 @@ CANDIDATES = ("n_pairs", "growth", "min_real", "pair_min_imag")
 
 def ranked_table(v):
     """The mean onset rank, p and power at f = 0.5 per law and candidate (N = 64)."""
-    lines = ["| law | drops | " + " | ".join(CANDIDATES) + " | old 1-step test, power f = 0.8 |",
+    lines = ["| law | drops | " + " | ".join(CANDIDATES)
+             + " | old 1-step test: preceded, p, power f = 0.8 |",
              "|---|---|" + "---|" * len(CANDIDATES) + "---|"]
     for label in RANKED_LAWS.values():
         r = v[label]
-        cells = []
-        for c in CANDIDATES:
-            t = r["candidates"][c]
-            cells.append("no pair" if t["statistic"] is None else
-                         f"{t['statistic']:.2f}, p {t['pvalue']:.2g}, power "
-                         + ("-" if t["power_0.5"] is None else f"{t['power_0.5']:.2f}"))
-        lines.append(f"| {label} | {r['drops']} | " + " | ".join(cells)
-                     + f" | {r['window1_power_0.8']:.2f} |")
+        lines.append(f"| {label} | {r['drops']} | "
+                     + " | ".join(_cell(r["candidates"][c]) for c in CANDIDATES) + " | "
+                     + _old_cell(r) + " |")
     return "\n\n" + "\n".join(lines) + "\n\n"
+
+
+def _cell(t):
+    """One candidate's mean onset rank, p and power at f = 0.5 (a table cell)."""
+    return ("no pair" if t["statistic"] is None else
+            f"{t['statistic']:.2f}, p {t['pvalue']:.2g}, power "
+            + ("-" if t["power_0.5"] is None else f"{t['power_0.5']:.2f}"))
+
+
+def _old_cell(r):
+    return (f"{r['window1_preceded']}/{r['window1_tested']}, p {r['window1_pvalue']:.2g}, "
+            f"power {r['window1_power_0.8']:.2f}")
 
 
 def _p(v, label, c):
@@ -115,6 +145,14 @@ def ranked_sentence(v):
         out.append(f"{law}: " + (", ".join(f"{c} (p {_p(v, label, c):.2g})" for c in yes)
                                  if yes else "none"))
     return "; ".join(out)
+
+
+def old_sentence(v):
+    """The old 1-step birth-window test per law (issue 17's answer), with its power."""
+    return "; ".join(f"{law}: {v[label]['window1_preceded']}/{v[label]['window1_tested']} "
+                     f"drops preceded (p {v[label]['window1_pvalue']:.2g}; power "
+                     f"{v[label]['window1_power_0.8']:.2f} at f = 0.8)"
+                     for law, label in RANKED_LAWS.items())
 
 
 SCALE_SIZES = (64, 128, 256, 512, 1024)
@@ -134,12 +172,8 @@ def scale_run():
     doc = study.run(["--sizes", *map(str, SCALE_SIZES), "--seeds", *map(str, SCALE_SEEDS),
                      "--cache", str(_checkout() / SCALE_CACHE), "--resume",
                      "--out", str(_checkout() / "validation")])
-    keep = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
-    rows = {f"{r['law']} N={r['n']}": {
-        "law": r["law"], "n": r["n"], "runs": r["runs"], "drops": r["drops"],
-        "window1_power_0.8": r["window1_power_0.8"],
-        "candidates": {c: {k: t[k] for k in keep} for c, t in r["candidates"].items()}}
-        for r in doc["rows"]}
+    rows = {f"{r['law']} N={r['n']}": {"law": r["law"], "n": r["n"], "runs": r["runs"],
+                                       **_row(r)} for r in doc["rows"]}
     out = ("validation/precursor_study" + x for x in (".md", ".json", ".png"))
     return Result(json_clean(rows), seeds=tuple(range(max(SCALE_SEEDS))), outputs=tuple(out),
                   units=doc["units"])
@@ -159,16 +193,14 @@ def _scale_show(v, label):
 
 
 def scale_table(v):
-    """Mean onset rank, p, power at f = 0.5 per law, N and candidate."""
-    lines = ["| law | N | runs | drops | " + " | ".join(CANDIDATES) + " |",
-             "|---|---|---|---|" + "---|" * len(CANDIDATES)]
+    """Mean onset rank, p, power at f = 0.5 per law, N and candidate; the old 1-step test."""
+    lines = ["| law | N | runs | drops | " + " | ".join(CANDIDATES)
+             + " | old 1-step test: preceded, p, power f = 0.8 |",
+             "|---|---|---|---|" + "---|" * (len(CANDIDATES) + 1)]
     for r in v.values():
-        cells = ["no pair" if r["candidates"][c]["statistic"] is None else
-                 f"{r['candidates'][c]['statistic']:.2f}, p {r['candidates'][c]['pvalue']:.2g}, "
-                 "power " + ("-" if r["candidates"][c]["power_0.5"] is None
-                             else f"{r['candidates'][c]['power_0.5']:.2f}") for c in CANDIDATES]
         lines.append(f"| {r['law']} | {r['n']} | {r['runs']} | {r['drops']} | "
-                     + " | ".join(cells) + " |")
+                     + " | ".join(_cell(r["candidates"][c]) for c in CANDIDATES) + " | "
+                     + _old_cell(r) + " |")
     return "\n\n" + "\n".join(lines) + "\n\n"
 
 
@@ -210,7 +242,8 @@ CLAIMS += [Claim(f"precursors.ranked_{law}", "precursors",
                 RANKED_COMMAND, ranked_run, show=lambda v, label=label: _ranked_show(v, label),
                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
                 job="precursors.ranked",
-                texts={"table": ranked_table, "answer": ranked_sentence} if law == "charan"
+                texts={"table": ranked_table, "answer": ranked_sentence,
+                       "old": old_sentence} if law == "charan"
                 else {})
           for law, label in RANKED_LAWS.items()]
 

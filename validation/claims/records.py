@@ -14,7 +14,6 @@ import os
 import platform
 import subprocess
 from datetime import datetime, timezone
-from pathlib import Path
 
 from .fingerprint import ROOT, file_hash
 

@@ -6,7 +6,6 @@ import math
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 from . import records
 from .fingerprint import ROOT, Tracer, add_units, file_hash, fingerprint
