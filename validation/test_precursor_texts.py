@@ -1,8 +1,11 @@
-"""The computed answer of the scale claims (claims.precursors.scale_answer): a candidate is named
-where p <= 0.05, and a pair-count or growth test that found nothing carries its power."""
+"""The computed answers of the precursor claims (claims.precursors): a candidate is named where
+p <= 0.05, a pair-count or growth test that found nothing carries its power; the old
+birth-window test's outcome as the study computes it and as the claims state and check it."""
 
 import sys
 from pathlib import Path
+
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
@@ -46,3 +49,51 @@ def test_fi_answer():
     assert text.startswith("ishima (13 drops): min_real (p 0.001) against ishima_fi (20 drops): "
                            "growth (p 0.03)")
     assert "; charan (13 drops)" in text
+
+
+def _path(births_at, drops_at, n=401, dgamma=5e-4):
+    """A synthetic AQS path: stress rising by 1e-3 per step, falling by 1e-2 at the first
+    dropping step of each drop (``drops_at``: its onset state), births at the states
+    ``births_at``; candidate series flat noise."""
+    strain = dgamma * np.arange(n)
+    step = np.full(n - 1, 1e-3)
+    step[np.asarray(drops_at)] = -1e-2          # the step after the onset drops
+    stress = np.concatenate([[0.0], np.cumsum(step)])
+    rng = np.random.default_rng(len(births_at))
+    run = {"strain": strain, "stress": stress, "births": strain[np.asarray(births_at, int)]}
+    run.update({c: rng.random(n) for c in CANDIDATES})
+    return run
+
+
+def test_the_study_reports_the_old_window_test():
+    """Every drop preceded by a birth at its onset, the births rare (p0 = 1 step in 100):
+    the old 1-step test finds 5/5 with a tiny p; births only far from the drops: 0/5, p 1."""
+    import precursor_study as ps
+    drops = [60, 120, 180, 240, 300]
+    runs = {("preceded", 64): [_path(drops, drops)],
+            ("far", 64): [_path([d + 30 for d in drops], drops)]}
+    rows = {r["law"]: r for r in ps.analyse(runs, 5e-4, half_width=25, n_perm=99, n_rep=50)}
+    hit, far = rows["preceded"], rows["far"]
+    assert (hit["window1_preceded"], hit["window1_tested"]) == (5, 5)
+    assert hit["window1_pvalue"] < 1e-6            # (1/80)^5 with p0 = 5 steps of 400
+    assert (far["window1_preceded"], far["window1_tested"]) == (0, 5)
+    assert far["window1_pvalue"] == 1.0
+    assert "5/5" in ps.tables(list(rows.values()))
+
+
+def test_old_sentence_and_the_check_of_the_old_test():
+    from claims.precursors import _check_ranked, old_sentence
+    v = {label: {"drops": 20, "window1_tested": 20, "window1_preceded": k,
+                 "window1_pvalue": p, "window1_power_0.8": 0.9,
+                 "candidates": {c: _cand(0.5) for c in CANDIDATES}}
+         for (label, k, p) in zip(RANKED_LAWS.values(), (11, 8, 0), (0.83, 0.76, 1.0))}
+    text = old_sentence(v)
+    assert text.startswith("charan: 11/20 drops preceded (p 0.83; power 0.90 at f = 0.8)")
+    assert "hertz: 0/20" in text
+    ok, _ = _check_ranked(v, v)
+    assert ok
+    # 11/20 -> 19/20: 0.40 apart, beyond 3 combined binomial errors (3 hypot(0.111, 0.049) = 0.36)
+    moved = {k: dict(r) for k, r in v.items()}
+    moved["charan mu=0.1 kt=1"]["window1_preceded"] = 19
+    ok, why = _check_ranked(v, moved)
+    assert not ok and "old test" in why
