@@ -311,7 +311,9 @@ def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
     for i, ((label, n), rs) in enumerate(runs.items()):
         onsets = [[d.step - 1 for d in detect_drops(r["strain"], r["stress"])] for r in rs]
         row = {"law": label, "n": n, "runs": len(rs), "drops": sum(map(len, onsets)),
-               "states": int(sum(len(r["strain"]) for r in rs)), "candidates": {}}
+               "states": int(sum(len(r["strain"]) for r in rs)),
+               # the compute of the runs, summed over the sittings each took (one core)
+               "seconds": float(sum(float(r["seconds"]) for r in rs)), "candidates": {}}
         for j, (name, alt) in enumerate(CANDIDATES):
             paths = [(r[name], o) for r, o in zip(rs, onsets)]
             rng = np.random.default_rng([seed, i, j])
@@ -345,7 +347,8 @@ def _g(x, fmt="{:.2f}"):
 
 
 def tables(rows):
-    """Markdown: the ranked test per candidate; the old tests' outcome and power."""
+    """Markdown: the ranked test per candidate; the old tests' outcome and power, and the
+    compute of the runs (core-hours)."""
     lines = ["| law | N | runs | drops | candidate | direction | drops ranked | mean rank "
              "(null mean +- sd) | p | power f = 0.5 | power f = 0.8 |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -356,15 +359,16 @@ def tables(rows):
                 f"{'high' if t['alternative'] == 'greater' else 'low'} | {t['drops']} | "
                 f"{_g(t['statistic'])} ({_g(t['null_mean'])} +- {_g(t['null_sd'])}) | "
                 f"{_g(t['pvalue'], '{:.3g}')} | {_g(t['power_0.5'])} | {_g(t['power_0.8'])} |")
-    lines += ["", "| law | N | drops | " + " | ".join(
+    lines += ["", "| law | N | core-h | drops | " + " | ".join(
         f"{w} step{'s' if w > 1 else ''}: preceded | null p0 | p | power f = 0.5 / 0.8"
-        for w in WINDOW_STEPS) + " |", "|---|---|---|" + "---|---|---|---|" * len(WINDOW_STEPS)]
+        for w in WINDOW_STEPS) + " |", "|---|---|---|---|" + "---|---|---|---|" * len(WINDOW_STEPS)]
     for r in rows:
         cells = [f"{r[f'window{w}_preceded']}/{r[f'window{w}_tested']} | "
                  f"{_g(r[f'window{w}_p0'])} | {_g(r[f'window{w}_pvalue'], '{:.2g}')} | "
                  f"{_g(r[f'window{w}_power_0.5'])} / {_g(r[f'window{w}_power_0.8'])}"
                  for w in WINDOW_STEPS]
-        lines.append(f"| {r['law']} | {r['n']} | {r['drops']} | " + " | ".join(cells) + " |")
+        lines.append(f"| {r['law']} | {r['n']} | {r['seconds'] / 3600:.2g} | {r['drops']} | "
+                     + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 

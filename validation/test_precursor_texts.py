@@ -22,7 +22,9 @@ def test_scale_answer():
     for law, label in RANKED_LAWS.items():
         for n in (64, 1024):
             sig = 0.001 if (law == "ishima" or n == 64) else 0.3
-            v[f"{label} N={n}"] = {"law": label, "n": n, "runs": 1, "drops": 10,
+            v[f"{label} N={n}"] = {"law": label, "n": n, "runs": 1, "drops": 10, "hours": n / 512,
+                                  "window1_tested": 10, "window1_preceded": 4,
+                                  "window1_pvalue": 0.9, "window1_power_0.8": 0.7,
                                   "candidates": {c: _cand(sig if c != "pair_min_imag" else 0.5,
                                                           none=(law == "hertz"
                                                                 and c == "n_pairs"))
@@ -35,6 +37,10 @@ def test_scale_answer():
     assert "not:" not in ishima
     assert "n_pairs" not in hertz.split("N = 1024")[1]     # no pair: neither named nor 'not'
     assert text.index("N = 64") < text.index("N = 1024")
+    from claims.precursors import scale_table
+    table = scale_table(v)
+    assert "| charan mu=0.1 kt=1 | 1024 | 1 | 2 | 10 |" in table     # core-h 1024 / 512
+    assert table.count("4/10, p 0.9, power 0.70") == 6
 
 
 def test_fi_answer():
@@ -60,7 +66,8 @@ def _path(births_at, drops_at, n=401, dgamma=5e-4):
     step[np.asarray(drops_at)] = -1e-2          # the step after the onset drops
     stress = np.concatenate([[0.0], np.cumsum(step)])
     rng = np.random.default_rng(len(births_at))
-    run = {"strain": strain, "stress": stress, "births": strain[np.asarray(births_at, int)]}
+    run = {"strain": strain, "stress": stress, "births": strain[np.asarray(births_at, int)],
+           "seconds": 1800.0}
     run.update({c: rng.random(n) for c in CANDIDATES})
     return run
 
@@ -78,7 +85,8 @@ def test_the_study_reports_the_old_window_test():
     assert hit["window1_pvalue"] < 1e-6            # (1/80)^5 with p0 = 5 steps of 400
     assert (far["window1_preceded"], far["window1_tested"]) == (0, 5)
     assert far["window1_pvalue"] == 1.0
-    assert "5/5" in ps.tables(list(rows.values()))
+    assert hit["seconds"] == 1800.0                # the compute of its one run
+    assert "| preceded | 64 | 0.5 | 5 | 5/5 |" in ps.tables(list(rows.values()))
 
 
 def test_old_sentence_and_the_check_of_the_old_test():

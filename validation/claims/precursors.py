@@ -173,7 +173,8 @@ def scale_run():
                      "--cache", str(_checkout() / SCALE_CACHE), "--resume",
                      "--out", str(_checkout() / "validation")])
     rows = {f"{r['law']} N={r['n']}": {"law": r["law"], "n": r["n"], "runs": r["runs"],
-                                       **_row(r)} for r in doc["rows"]}
+                                       "hours": r["seconds"] / 3600, **_row(r)}
+            for r in doc["rows"]}
     out = ("validation/precursor_study" + x for x in (".md", ".json", ".png"))
     return Result(json_clean(rows), seeds=tuple(range(max(SCALE_SEEDS))), outputs=tuple(out),
                   units=doc["units"])
@@ -193,12 +194,13 @@ def _scale_show(v, label):
 
 
 def scale_table(v):
-    """Mean onset rank, p, power at f = 0.5 per law, N and candidate; the old 1-step test."""
-    lines = ["| law | N | runs | drops | " + " | ".join(CANDIDATES)
+    """Mean onset rank, p, power at f = 0.5 per law, N and candidate; the old 1-step test;
+    the compute of the runs (core-hours, summed over sittings)."""
+    lines = ["| law | N | runs | core-h | drops | " + " | ".join(CANDIDATES)
              + " | old 1-step test: preceded, p, power f = 0.8 |",
-             "|---|---|---|---|" + "---|" * (len(CANDIDATES) + 1)]
+             "|---|---|---|---|---|" + "---|" * (len(CANDIDATES) + 1)]
     for r in v.values():
-        lines.append(f"| {r['law']} | {r['n']} | {r['runs']} | {r['drops']} | "
+        lines.append(f"| {r['law']} | {r['n']} | {r['runs']} | {r['hours']:.2g} | {r['drops']} | "
                      + " | ".join(_cell(r["candidates"][c]) for c in CANDIDATES) + " | "
                      + _old_cell(r) + " |")
     return "\n\n" + "\n".join(lines) + "\n\n"
