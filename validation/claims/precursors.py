@@ -160,8 +160,9 @@ SCALE_SEEDS = (4, 2, 1, 1, 1)
 SCALE_CACHE = "validation/runs/precursors"
 SCALE_COMMAND = ("python validation/precursor_study.py --sizes 64 128 256 512 1024 "
                  f"--seeds 4 2 1 1 1 --cache {SCALE_CACHE} --resume (strain 0.2, dgamma 5e-4; "
-                 "about 10 h on one core, resumable: every run and checkpoint is stamped with "
-                 "the code it executed and reused only while that code is unchanged)")
+                 "tens of core-hours, the table's core-h column; add --budget-only for the "
+                 "projection; resumable: every run and checkpoint is stamped with the code it "
+                 "executed and reused only while that code is unchanged)")
 
 
 def scale_run():
