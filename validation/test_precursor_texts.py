@@ -92,12 +92,12 @@ def test_the_study_reports_the_old_window_test():
 def test_old_sentence_and_the_check_of_the_old_test():
     from claims.precursors import _check_ranked, old_sentence
     v = {label: {"drops": 20, "window1_tested": 20, "window1_preceded": k,
-                 "window1_pvalue": p, "window1_power_0.8": 0.9,
+                 "window1_pvalue": p, "window1_power_0.8": 0.9, "window1_p0": 0.5 if k else 0.0,
                  "candidates": {c: _cand(0.5) for c in CANDIDATES}}
          for (label, k, p) in zip(RANKED_LAWS.values(), (11, 8, 0), (0.83, 0.76, 1.0))}
     text = old_sentence(v)
     assert text.startswith("charan: 11/20 drops preceded (p 0.83; power 0.90 at f = 0.8)")
-    assert "hertz: 0/20" in text
+    assert text.endswith("hertz: no pair born (20 drops)")
     ok, _ = _check_ranked(v, v)
     assert ok
     # 11/20 -> 19/20: 0.40 apart, beyond 3 combined binomial errors (3 hypot(0.111, 0.049) = 0.36)

@@ -38,8 +38,9 @@ def ranked_run():
 
 
 KEEP = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
-#: the old 1-step birth-window test (issue 17): drops tested, preceded, p, power at f = 0.8
-OLD = ("window1_tested", "window1_preceded", "window1_pvalue", "window1_power_0.8")
+#: the old 1-step birth-window test (issue 17): drops tested, preceded, p, power at f = 0.8,
+#: and its null fraction p0 (0: no pair was ever born on the law's paths)
+OLD = ("window1_tested", "window1_preceded", "window1_pvalue", "window1_power_0.8", "window1_p0")
 
 
 def _row(r):
@@ -55,8 +56,15 @@ def _law_rows(doc):
     return {r["law"]: _row(r) for r in doc["rows"]}
 
 
+def _no_birth(r):
+    """No pair born on the row's paths (hertz): the old test has nothing to test."""
+    return r.get("window1_p0") == 0 and r["window1_preceded"] == 0
+
+
 def _old_test(r):
     """The old 1-step test of a recorded row, in words."""
+    if _no_birth(r):
+        return "old 1-step test: no pair born"
     return (f"old 1-step test {r['window1_preceded']}/{r['window1_tested']} preceded (p "
             f"{r['window1_pvalue']:.2g}), power {r['window1_power_0.8']:.2f} at f = 0.8")
 
@@ -128,6 +136,8 @@ def _cell(t):
 
 
 def _old_cell(r):
+    if _no_birth(r):
+        return "no pair born"
     return (f"{r['window1_preceded']}/{r['window1_tested']}, p {r['window1_pvalue']:.2g}, "
             f"power {r['window1_power_0.8']:.2f}")
 
@@ -149,7 +159,9 @@ def ranked_sentence(v):
 
 def old_sentence(v):
     """The old 1-step birth-window test per law (issue 17's answer), with its power."""
-    return "; ".join(f"{law}: {v[label]['window1_preceded']}/{v[label]['window1_tested']} "
+    return "; ".join(f"{law}: no pair born ({v[label]['window1_tested']} drops)"
+                     if _no_birth(v[label]) else
+                     f"{law}: {v[label]['window1_preceded']}/{v[label]['window1_tested']} "
                      f"drops preceded (p {v[label]['window1_pvalue']:.2g}; power "
                      f"{v[label]['window1_power_0.8']:.2f} at f = 0.8)"
                      for law, label in RANKED_LAWS.items())
