@@ -11,8 +11,8 @@ null, p-value), its power at true preceded fractions 0.5 and 0.8, and the old 1-
 4-step birth-window tests (issue 17's statistic, :func:`fricstab.analysis.aqs.compare`: the
 drops with a pair birth in the window up to the onset, against the null of the same window at
 every strain, exact one-sided binomial p) with their power against the same fractions.
-Before running, the measured seconds per state and the projected compute of the requested
-sizes are printed.
+Before running, the compute spent and left per size and law is printed (:func:`budget`;
+``--budget-only`` stops there).
 
     python validation/precursor_study.py --sizes 64 128 --seeds 4 2 --cache DIR --resume
     python validation/precursor_study.py --sizes 64 --seeds 4 --prefix precursor_study_n64 \
@@ -160,50 +160,85 @@ def probe(n, steps=3, dgamma=5e-4):
     return (time.perf_counter() - t0) / (steps + 1), t_spec
 
 
-def _partial(cache, n):
-    """(seconds per state, steps) over the latest checkpoints of runs of size ``n`` in progress,
-    or None."""
-    secs = steps = 0.0
-    for d in cache.glob(f"n{n}_s*.checkpoints"):
-        files = sorted(d.glob("ckpt_*.npz"))
-        try:
-            with np.load(files[-1]) as z:       # an estimate only: no checksum needed
-                secs, steps = secs + float(z["seconds_so_far"]), steps + int(z["step"])
-        except (IndexError, OSError, KeyError, ValueError):
-            continue
-    return (secs / steps, int(steps)) if steps else None
+def _checkpoint(ckpt_dir):
+    """(seconds so far, steps) of a run's latest checkpoint, or None."""
+    files = sorted(ckpt_dir.glob("ckpt_*.npz"))
+    try:
+        with np.load(files[-1]) as z:       # an estimate only: no checksum needed
+            return float(z["seconds_so_far"]), int(z["step"])
+    except (IndexError, OSError, KeyError, ValueError):
+        return None
+
+
+def _rate(known, n, label):
+    """Seconds per state of ``label`` at ``n`` from ``known`` {(n, label): [rate, ...]}: the
+    mean at that size, else the nearest smaller size's scaled by (n / n')^3 (the dense
+    spectrum's and the dense least squares' order), else None.  Returns (rate, how)."""
+    if known.get((n, label)):
+        return float(np.mean(known[(n, label)])), "measured"
+    smaller = sorted(m for (m, lab) in known if lab == label and m < n)
+    if smaller:
+        m = smaller[-1]
+        return float(np.mean(known[(m, label)])) * (n / m) ** 3, f"N = {m} x (N / {m})^3"
+    return None, "not measured"
 
 
 def budget(sizes, seeds, laws, strain, dgamma, cache, log=print, probe_new=True):
-    """Print the measured seconds per state per N and the projected compute; return it."""
+    """Print, per N and law, the compute spent and the compute left (one core) and return it.
+
+    Spent: the finished runs of this code in ``cache`` and the checkpoints of the unfinished
+    ones.  Left: the states still owed, each at the law's measured seconds per state at that
+    N (finished runs and checkpoints), else extrapolated from the nearest smaller N as N^3,
+    else (unless ``probe_new`` is False) a 3-step probe of charan at that N."""
     states = int(np.floor(strain / dgamma + 1e-9)) + 1
-    total, out = 0.0, []
+    known, plan = {}, []
     for n, n_seeds in zip(sizes, seeds):
-        done = sorted(cache.glob(f"n{n}_s*_{strain:g}_{dgamma:g}.npz")) if cache else []
-        partial = _partial(cache, n) if cache and not done else None
-        if done:
-            runs = [load_run(p) for p in done]
-            per, spec, how = (sum(float(r["seconds"]) for r in runs)
-                              / sum(len(r["strain"]) for r in runs), float("nan"),
-                              f"{len(done)} cached runs")
-        elif partial is not None:
-            per, spec, how = partial[0], float("nan"), f"{partial[1]} steps checkpointed"
-        elif not probe_new:
-            log(f"N = {n}: not measured (--no-probe)")
-            continue
-        else:
-            per, spec = probe(n)
-            how = "3-step probe, charan"
-        hours = per * states * n_seeds * len(laws) / 3600
-        total += hours
-        out.append({"n": n, "seconds_per_state": per, "spectrum_seconds": spec,
-                    "projected_hours": hours})
-        log(f"N = {n}: {per:.3g} s per state ({how}"
-            + (f"; dense spectrum {spec:.3g} s" if np.isfinite(spec) else "")
-            + f") x {states} states x {n_seeds} seeds x {len(laws)} laws = {hours:.2f} h")
-    log(f"projected compute: {total:.2f} h on one core"
-        + (f" -- too slow for one sitting (> {SLOW_HOURS:g} h): the dense spectrum per state "
-           "dominates at N >= 512; run fewer sizes or seeds" if total > SLOW_HOURS else ""))
+        for label, _, _ in laws:
+            for seed in range(n_seeds):
+                stem = _key(n, seed, label, strain, dgamma)
+                path = cache / f"{stem}.npz" if cache else None
+                if path is not None and path.exists():
+                    r = load_run(path)
+                    if fresh(r):
+                        known.setdefault((n, label), []).append(
+                            float(r["seconds"]) / len(r["strain"]))
+                        plan.append((n, label, float(r["seconds"]), 0))
+                        continue
+                ck = _checkpoint(cache / f"{stem}.checkpoints") if cache else None
+                if ck is not None and ck[1] > 0:
+                    known.setdefault((n, label), []).append(ck[0] / ck[1])
+                    plan.append((n, label, ck[0], states - ck[1]))
+                else:
+                    plan.append((n, label, 0.0, states))
+    probed, out = {}, []
+    spent_total = left_total = 0.0
+    unknown = []
+    for n in sizes:
+        for label, _, _ in laws:
+            rows = [x for x in plan if x[0] == n and x[1] == label]
+            spent, owed = sum(x[2] for x in rows), sum(x[3] for x in rows)
+            rate, how = _rate(known, n, label)
+            if rate is None and owed and probe_new:
+                if n not in probed:
+                    probed[n] = probe(n)[0]
+                rate, how = probed[n], "3-step probe, charan"
+            left = None if rate is None else rate * owed
+            spent_total += spent
+            if owed and left is None:
+                unknown.append(f"N = {n} {label}")
+            left_total += left or 0.0
+            out.append({"n": n, "law": label, "runs": len(rows), "spent_hours": spent / 3600,
+                        "states_owed": owed, "seconds_per_state": rate,
+                        "left_hours": None if left is None else left / 3600})
+            log(f"N = {n} {label}: {spent / 3600:.2f} h spent, {owed} of "
+                f"{len(rows) * states} states owed"
+                + ("" if not owed else f", {left / 3600:.2f} h left ({rate:.3g} s per state, "
+                   f"{how})" if left is not None else ", left unknown (--no-probe)"))
+    log(f"compute: {spent_total / 3600:.2f} h spent, {left_total / 3600:.2f} h left on one core"
+        + (f" (plus {', '.join(unknown)}: not measured)" if unknown else "")
+        + (f" -- more than one sitting (> {SLOW_HOURS:g} h): run the sizes over several "
+           "sittings (--resume) or in parallel processes (--laws)"
+           if left_total > 3600 * SLOW_HOURS else ""))
     return out
 
 

@@ -105,3 +105,30 @@ def test_old_sentence_and_the_check_of_the_old_test():
     moved["charan mu=0.1 kt=1"]["window1_preceded"] = 19
     ok, why = _check_ranked(v, moved)
     assert not ok and "old test" in why
+
+
+def test_budget_counts_what_is_spent_and_projects_what_is_left(tmp_path, monkeypatch):
+    """A finished charan run (40 s, 401 states) and an ishima checkpoint (10 s at step 100):
+    spent 50 s; left: ishima's 301 states at 0.1 s, both laws at N = 128 at their N = 64 rate
+    times 2^3, hertz unknown (never measured, no probe)."""
+    import precursor_study as ps
+    monkeypatch.setattr(ps, "fresh", lambda stamp: True)
+    laws = ps.LAWS
+    stem = {lab: ps._key(64, 0, lab, 0.2, 5e-4) for lab, _, _ in laws}
+    charan, ishima, hertz = (lab for lab, _, _ in laws)
+    ps.save_run(tmp_path / f"{stem[charan]}.npz",
+                {"strain": np.zeros(401), "seconds": np.float64(40.0)})
+    ck = tmp_path / f"{stem[ishima]}.checkpoints"
+    ck.mkdir()
+    np.savez(ck / "ckpt_000000000100.npz", seconds_so_far=np.float64(10.0), step=np.int64(100))
+    lines = []
+    out = {(r["n"], r["law"]): r for r in
+           ps.budget([64, 128], [1, 1], laws, 0.2, 5e-4, tmp_path, log=lines.append,
+                     probe_new=False)}
+    assert out[(64, charan)]["states_owed"] == 0 and out[(64, charan)]["spent_hours"] == 40 / 3600
+    assert out[(64, ishima)]["states_owed"] == 301
+    assert np.isclose(out[(64, ishima)]["left_hours"] * 3600, 30.1)
+    assert np.isclose(out[(128, charan)]["left_hours"] * 3600, 320.0)     # 401 x 40/401 x 8
+    assert np.isclose(out[(128, ishima)]["left_hours"] * 3600, 320.8)     # 401 x 0.1 x 8
+    assert out[(64, hertz)]["left_hours"] is None
+    assert "not measured" in lines[-1] and "N = 64 hertz" in lines[-1]
