@@ -191,7 +191,7 @@ def test_a_singular_jacobian_gets_few_least_squares_iterations_before_fire(chara
     monkeypatch.setattr(aqs_protocol, "newton", spy)
     _, used_fire = aqs_protocol.relax_step(system, state, 2.5e-4, 1e-13)
     assert used_fire
-    assert calls[:2] == [("bordered", 60), ("lstsq", 8)]
+    assert calls[:2] == [("bordered", 60), ("regularized", 8)]
     assert calls[2] == ("bordered", 60)      # the polish after FIRE: the full budget
 
 def test_a_stalled_polish_is_restarted_by_least_squares_from_the_fire_state(charan64,
@@ -216,7 +216,7 @@ def test_a_stalled_polish_is_restarted_by_least_squares_from_the_fire_state(char
     relaxed, used_fire = aqs_protocol.relax_step(system, state, 2.5e-4, 1e-13)
     assert used_fire
     # before FIRE a stall goes to FIRE (a plastic event: least squares would wander)
-    assert calls == [("bordered", 60), ("bordered", 60), ("lstsq", 60)]
+    assert calls == [("bordered", 60), ("bordered", 60), ("regularized", 60)]
     assert np.array_equal(starts[2], starts[1])     # restarted from the FIRE state
     assert np.abs(aqs_protocol.jacobian(system, relaxed)[0]).max() < 1e-13
 

