@@ -13,9 +13,11 @@ eigenvalue (a saddle: the branch ended in a plastic event), the step is
 relaxed by FIRE from the affine state (damped dynamics, history by the
 increment rule) to ``FIRE_TOL`` and polished by Newton; the step is then
 flagged ``fire``.  A singular bordered solve (a disk that lost its contacts)
-is retried by least squares, for at most ``singular_iter`` iterations
-(:func:`relax_step`) before FIRE; the polish after FIRE may take the full 60,
-and is also restarted by least squares when the bordered solve stalls
+is retried by the regularized sparse solve (a sparse LU of K + s I, the
+minimum-norm step up to O(s); :func:`fricstab.engine.newton.regularized_solve`),
+for at most ``singular_iter`` iterations (:func:`relax_step`) before FIRE; the
+polish after FIRE may take the full 60, and is also restarted that way when the
+bordered solve stalls
 unconverged without raising (a nearly singular Jacobian).  A step that still
 has no equilibrium raises
 :class:`~fricstab.errors.ConvergenceError` naming the step and its strain.
@@ -132,10 +134,11 @@ def _newton(system, state, f_tol, max_iter=60, singular_iter=None, retry_stalled
     the path's time, 2.0 s a solve (LSMR 5.7 s); the regularized solve 0.02 s, with the same
     iterations and stresses.
 
-    ``retry_stalled``: also restart by least squares from the same state when the bordered
+    ``retry_stalled``: also restart by the fallback from the same state when the bordered
     Newton ends unconverged without raising.  A nearly (not exactly) singular Jacobian does
     that: measured at N = 512 (hertz, strain step 34, after FIRE), the bordered Newton stalls
-    at max|F| = 8.7e-10 through 60 iterations while least squares converges in 2 to 1.6e-15.
+    at max|F| = 8.7e-10 through 60 iterations while the fallback (then dense least squares)
+    converges in 2 to 1.6e-15.
     """
     # imported here: a module-level import would change the frame every stamped run holds
     from fricstab._stderr import drop_c_lines
@@ -162,10 +165,10 @@ def relax_step(system, prev, dgamma, f_tol, where="", use_fire=False, singular_i
     Newton first (unless ``use_fire``); FIRE and a Newton polish if it fails.
     Raises :class:`ConvergenceError` naming ``where`` when neither converges.
 
-    ``singular_iter``: Newton iterations of the singular fallback (:func:`_newton`) tried on a
-    singular Jacobian before FIRE (the polish after FIRE may take the full 60).  Measured at N = 512 (charan, strain
-    0.036, a disk without contacts and one with a single contact): the least-squares
-    iterates wander along the near-zero modes (residual 8e-5 -> 1e-6 in 30 iterations, never
+    ``singular_iter``: Newton iterations of the singular fallback (:func:`_newton`) tried on
+    a singular Jacobian before FIRE (the polish after FIRE may take the full 60).  Measured
+    at N = 512 (charan, strain 0.036, a disk without contacts and one with a single
+    contact; the fallback then dense least squares): its iterates wander along the near-zero modes (residual 8e-5 -> 1e-6 in 30 iterations, never
     converging) at 2 s an iteration, while FIRE and the polish take seconds; a Newton that
     converges from the affine state does so in a few iterations.
     """

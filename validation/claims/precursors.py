@@ -61,12 +61,14 @@ def _no_birth(r):
     return r.get("window1_p0") == 0 and r["window1_preceded"] == 0
 
 
-def _old_test(r):
-    """The old 1-step test of a recorded row, in words."""
+def _old(r, cell=False):
+    """The old 1-step test of a recorded row: a sentence, or (``cell``) a table cell."""
+    t = r["window1_tested"]
     if _no_birth(r):
-        return "old 1-step test: no pair born"
-    return (f"old 1-step test {r['window1_preceded']}/{r['window1_tested']} preceded (p "
-            f"{r['window1_pvalue']:.2g}), power {r['window1_power_0.8']:.2f} at f = 0.8")
+        return "no pair born" if cell else f"no pair born ({t} drops)"
+    got, p, pw = r["window1_preceded"], r["window1_pvalue"], r["window1_power_0.8"]
+    return (f"{got}/{t}, p {p:.2g}, power {pw:.2f}" if cell else
+            f"{got}/{t} drops preceded (p {p:.2g}; power {pw:.2f} at f = 0.8)")
 
 
 def _ranked_show(v, label):
@@ -75,7 +77,8 @@ def _ranked_show(v, label):
     return "; ".join(f"{c} {t['statistic']:.2f} (p {t['pvalue']:.2g}, power "
                      f"{pw(t['power_0.5'])} / {pw(t['power_0.8'])})" if t["statistic"]
                      is not None else f"{c}: no ranked drop"
-                     for c, t in r["candidates"].items()) + f"; {r['drops']} drops; {_old_test(r)}"
+                     for c, t in r["candidates"].items()) + (f"; {r['drops']} drops; old 1-step "
+                                                             f"test: {_old(r)}")
 
 
 def _check_ranked(a, b):
@@ -124,7 +127,7 @@ def ranked_table(v):
         r = v[label]
         lines.append(f"| {label} | {r['drops']} | "
                      + " | ".join(_cell(r["candidates"][c]) for c in CANDIDATES) + " | "
-                     + _old_cell(r) + " |")
+                     + _old(r, cell=True) + " |")
     return "\n\n" + "\n".join(lines) + "\n\n"
 
 
@@ -133,13 +136,6 @@ def _cell(t):
     return ("no pair" if t["statistic"] is None else
             f"{t['statistic']:.2f}, p {t['pvalue']:.2g}, power "
             + ("-" if t["power_0.5"] is None else f"{t['power_0.5']:.2f}"))
-
-
-def _old_cell(r):
-    if _no_birth(r):
-        return "no pair born"
-    return (f"{r['window1_preceded']}/{r['window1_tested']}, p {r['window1_pvalue']:.2g}, "
-            f"power {r['window1_power_0.8']:.2f}")
 
 
 def _p(v, label, c):
@@ -159,12 +155,7 @@ def ranked_sentence(v):
 
 def old_sentence(v):
     """The old 1-step birth-window test per law (issue 17's answer), with its power."""
-    return "; ".join(f"{law}: no pair born ({v[label]['window1_tested']} drops)"
-                     if _no_birth(v[label]) else
-                     f"{law}: {v[label]['window1_preceded']}/{v[label]['window1_tested']} "
-                     f"drops preceded (p {v[label]['window1_pvalue']:.2g}; power "
-                     f"{v[label]['window1_power_0.8']:.2f} at f = 0.8)"
-                     for law, label in RANKED_LAWS.items())
+    return "; ".join(f"{law}: {_old(v[label])}" for law, label in RANKED_LAWS.items())
 
 
 SCALE_SIZES = (64, 128, 256, 512, 1024)
@@ -215,7 +206,7 @@ def scale_table(v):
     for r in v.values():
         lines.append(f"| {r['law']} | {r['n']} | {r['runs']} | {r['hours']:.2g} | {r['drops']} | "
                      + " | ".join(_cell(r["candidates"][c]) for c in CANDIDATES) + " | "
-                     + _old_cell(r) + " |")
+                     + _old(r, cell=True) + " |")
     return "\n\n" + "\n".join(lines) + "\n\n"
 
 
