@@ -94,3 +94,26 @@ def test_protocol_study_on_a_tiny_cell(tmp_path):
         del sp.SCALES["tiny"]
     assert logged == [] and again == rows["damping"]["0"]
     assert np.isfinite(summary["damping"]["rate"]["mean"])
+
+
+def test_a_run_that_fails_to_prepare_is_a_row_that_says_so(tmp_path):
+    """A preparation that does not settle (here: 500 steps allowed, x 3.8 for kn) is stored as a failure
+    with its message, is reused like a finished run, and the table names it instead of
+    stopping the study with a traceback."""
+    sys.path.insert(0, str(VALIDATION))
+    import shear_protocol as sp
+    sp.SCALES["tiny"] = {"n": 40, "strain": 0.01, "gamma0": 0.002, "prep_max_steps": 500}
+    try:
+        got = sp.one("tiny", "kn", 0, tmp_path / "cache", log=lambda m: None,
+                     store=tmp_path / "store")
+        again = sp.one("tiny", "kn", 0, tmp_path / "cache", run=False, store=tmp_path / "store")
+        rows = {"kn": {"0": got}}
+        summary = sp.summarise(rows)
+        sp.write(rows, summary, "tiny", [0], tmp_path)
+    finally:
+        del sp.SCALES["tiny"]
+    assert got["failure"].startswith("preparation: after ") and got["seconds"] > 0
+    assert again == got
+    assert summary["kn"]["failed"] == {"0": got["failure"]} and "rate" not in summary["kn"]
+    table = (tmp_path / "shear_protocol_tiny.md").read_text()
+    assert "failed (seed 0: preparation: after " in table

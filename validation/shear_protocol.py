@@ -10,7 +10,8 @@ of these on the same cell and seeds:
 - ``restitution``: ratios alpha_n = alpha_t = 0.034, the linear spring-dashpot's for e = 0.9
   (:func:`fricstab.scenes.shear.damping_ratio`);
 - ``kn``: kappa read as k_n / P: E*/P = :func:`fricstab.scenes.shear.kappa_from_kn` (kappa)
-  (a pressure ~3-4x lower);
+  (a pressure ~3-4x lower), prepared with the wall's speed scaled by the preset's kappa over
+  the reading's and the step limit by the inverse (:data:`PREP_WHY`);
 - ``restitution_kn``: both.
 
 Per run, the observables that do not need the full paper run: the phase rate (phases per
@@ -32,7 +33,9 @@ Each run's observables are kept in the committed store ``validation/runs/shear_p
 (``validation/_stamped.py``), and reused while both are unchanged, so the study spreads over
 sittings on any machine; the run itself (frames, series: too big for git) goes to ``--cache``
 (default ``validation/.shear_protocol``, git-ignored).  ``--no-run`` tabulates the stored
-runs.  Writes ``<out>/shear_protocol_<scale>.md`` and ``.json``.
+runs.  A run whose preparation does not settle is stored as a failure with its message (and
+seconds) and shown as such in the table; the other runs go on.  Writes
+``<out>/shear_protocol_<scale>.md`` and ``.json``.
 """
 
 import argparse
@@ -50,6 +53,7 @@ sys.path.insert(0, str(HERE))
 
 import _stamped  # noqa: E402
 
+from fricstab.errors import ConvergenceError  # noqa: E402
 from fricstab.scenes.shear import damping_ratio, kappa_from_kn  # noqa: E402
 
 PAPER_RATE = 0.323          # ~42,000 phases in ~130,000 output steps (Sec. 3.1)
@@ -79,7 +83,21 @@ def params(scale, reading, seed):
         over.update(alpha_n=a, alpha_t=a)
     if reading.endswith("kn"):
         over["kappa"] = kappa_from_kn(base["kappa"])
+        # the preparation's wall speed (units sqrt(E*/rho)) slowed by base/new kappa (PREP_WHY)
+        r = base["kappa"] / over["kappa"]
+        over.update(prep_speed=base["prep_speed"] * r,
+                    prep_max_steps=math.ceil(base["prep_max_steps"] / r))
     return resolve_params(None, preset, {**over, "seed": seed})
+
+
+#: why the kn readings prepare with a slower wall (:func:`params`)
+PREP_WHY = ("The dashpot and friction forces on the moving wall scale with its speed "
+            "(prep_speed, units sqrt(E*/rho)) in units of E*, the target pressure with 1/kappa: "
+            "at kappa = k_n/P (E*/P = 38,480 at the decide scale) the wall at full speed is "
+            "pulled (N < 0, |N/N_target - 1| = 1.9 after 1.06e6 steps, 2.01 after 3e6), so "
+            "its speed is scaled by the preset's kappa over the reading's (x 0.26) and the "
+            "step limit by the inverse: prepared in 5.14e6 steps (|N/N_target - 1| = 0.010, "
+            "kinetic energy 0.5 x tolerance), the preset's reading in 1.80e6")
 
 
 def observables(folder, p):
@@ -131,24 +149,31 @@ def one(scale, reading, seed, cache, run=True, log=print, store=STORE):
         t0 = time.perf_counter()
         log(f"{scale} {reading} seed {seed}: running (kappa E*/P = {p['kappa']:.4g}, "
             f"alpha_n = {p['alpha_n']:.3g})")
-        run_shear(p, out, force=True, argv=["validation/shear_protocol.py"], log=lambda s: None)
-        log(f"  done in {time.perf_counter() - t0:.0f} s")
-        return {"observables": np.str_(json.dumps(observables(out, p))),
-                "params": np.str_(json.dumps(p))}
+        try:
+            run_shear(p, out, force=True, argv=["validation/shear_protocol.py"],
+                      log=lambda s: None)
+            obs = observables(out, p)
+        except ConvergenceError as exc:     # stored: the table says why the row is empty
+            obs = {"failure": str(exc)}
+        obs["seconds"] = time.perf_counter() - t0
+        log(f"  {'failed' if 'failure' in obs else 'done'} in {obs['seconds']:.0f} s"
+            + (f": {obs['failure']}" if "failure" in obs else ""))
+        return {"observables": np.str_(json.dumps(obs)), "params": np.str_(json.dumps(p))}
     if path.exists():
         path.unlink()       # other parameters: cached() would reuse a fresh stamp
     return json.loads(_stamped.cached(path, compute, log=log)["observables"])
 
 
 def summarise(rows):
-    """Per reading: mean and standard error over seeds of each observable."""
+    """Per reading: mean and standard error over seeds of each observable (of the runs that
+    did not fail; ``failed``: seed -> the failure's message)."""
     out = {}
     for reading, seeds in rows.items():
-        keys = [k for k in next(iter(seeds.values())) if isinstance(
-            next(iter(seeds.values()))[k], (int, float))]
-        s = {}
+        ran = [x for x in seeds.values() if "failure" not in x]
+        keys = sorted({k for x in ran for k, v in x.items() if isinstance(v, (int, float))})
+        s = {"failed": {seed: x["failure"] for seed, x in seeds.items() if "failure" in x}}
         for k in keys:
-            v = np.array([x[k] for x in seeds.values() if x[k] is not None], float)
+            v = np.array([x[k] for x in ran if x.get(k) is not None], float)
             if v.size:
                 s[k] = {"mean": float(v.mean()),
                         "se": float(v.std(ddof=1) / math.sqrt(v.size)) if v.size > 1 else None,
@@ -188,8 +213,14 @@ def write(rows, summary, scale, seeds, out):
             if k not in s:
                 return "-"
             return f(s[k]["mean"], d) + ("" if s[k]["se"] is None else f" +- {f(s[k]['se'], 2)}")
-        starts = [x["steady_start"] for x in rows[reading].values()]
-        kap = 1.0 / s["pressure_over_estar"]["mean"]
+        starts = [x["steady_start"] for x in rows[reading].values() if "failure" not in x]
+        kap = params(scale, reading, seeds[0])["kappa"]
+        if s["failed"]:
+            lines.append(f"| {WHAT[reading]} | {kap:.4g} | failed (seed "
+                         + "; seed ".join(f"{k}: {v}" for k, v in s["failed"].items())
+                         + ") |" + " |" * 7)
+        if len(s["failed"]) == len(rows[reading]):
+            continue
         lines.append(f"| {WHAT[reading]} | {kap:.4g} | {ms('rate')} | {ms('tau_mean')} | "
                      f"{ms('tau_std')} | "
                      + ", ".join("none" if x is None else f"{x:.3f}" for x in starts)
