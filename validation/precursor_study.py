@@ -161,13 +161,18 @@ def probe(n, steps=3, dgamma=5e-4):
 
 
 def _checkpoint(ckpt_dir):
-    """(seconds so far, steps) of a run's latest checkpoint, or None."""
+    """(seconds so far, steps) of a run's latest checkpoint, or None: also when other code
+    made it (:func:`fresh`; the run starts afresh, so it is neither spent nor a rate)."""
     files = sorted(ckpt_dir.glob("ckpt_*.npz"))
     try:
         with np.load(files[-1]) as z:       # an estimate only: no checksum needed
-            return float(z["seconds_so_far"]), int(z["step"])
+            stamp = {k: str(z[k]) for k in ("units", "code") if k in z.files}
+            got = float(z["seconds_so_far"]), int(z["step"])
     except (IndexError, OSError, KeyError, ValueError):
         return None
+    if not stamp.get("code") and (ckpt_dir / "code").exists():
+        stamp["code"] = (ckpt_dir / "code").read_text()     # adopted (_adopt)
+    return got if fresh(stamp) else None
 
 
 def _rate(known, n, label):

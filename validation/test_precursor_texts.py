@@ -132,3 +132,8 @@ def test_budget_counts_what_is_spent_and_projects_what_is_left(tmp_path, monkeyp
     assert np.isclose(out[(128, ishima)]["left_hours"] * 3600, 320.8)     # 401 x 0.1 x 8
     assert out[(64, hertz)]["left_hours"] is None
     assert "not measured" in lines[-1] and "N = 64 hertz" in lines[-1]
+    # a checkpoint made by other code is restarted: nothing spent, every state owed
+    monkeypatch.setattr(ps, "fresh", lambda stamp: False)
+    out = {(r["n"], r["law"]): r for r in
+           ps.budget([64], [1], laws, 0.2, 5e-4, tmp_path, log=lines.append, probe_new=False)}
+    assert out[(64, ishima)]["states_owed"] == 401 and out[(64, ishima)]["spent_hours"] == 0
