@@ -344,11 +344,28 @@ def _constant(x):
     return v.size == 0 or v.min() == v.max()
 
 
+POOLED = "all"   # the N of a law's pooled row
+
+
+def pooled(runs):
+    """``runs`` and, per law run at more than one size, its runs of every size as one group
+    ``(label, POOLED)`` (last, so the per-size rows keep their random streams)."""
+    groups = dict(runs)
+    for label in dict.fromkeys(lab for lab, _ in runs):
+        sizes = [rs for (lab, _), rs in runs.items() if lab == label]
+        if len(sizes) > 1:
+            groups[(label, POOLED)] = [r for rs in sizes for r in rs]
+    return groups
+
+
 def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
     """Per (law, N): drops, the ranked test and power per candidate, the old birth-window
-    tests' outcome (preceded drops, p) and power."""
+    tests' outcome (preceded drops, p) and power; per law run at several sizes, the same on
+    all its drops pooled (N = ``POOLED``: each onset ranked in its own path's window, so
+    ranks of different sizes are one sample of the null; pooling assumes one preceded
+    fraction at every size, which the per-size rows show or not)."""
     rows = []
-    for i, ((label, n), rs) in enumerate(runs.items()):
+    for i, ((label, n), rs) in enumerate(pooled(runs).items()):
         onsets = [[d.step - 1 for d in detect_drops(r["strain"], r["stress"])] for r in rs]
         row = {"law": label, "n": n, "runs": len(rs), "drops": sum(map(len, onsets)),
                "states": int(sum(len(r["strain"]) for r in rs)),
@@ -422,7 +439,8 @@ def figure(rows, path):
                            squeeze=False)
     for i, label in enumerate(labels):
         for j, (name, alt) in enumerate(CANDIDATES):
-            ranks = [x for r in rows if r["law"] == label for x in r["candidates"][name]["ranks"]]
+            ranks = [x for r in rows if r["law"] == label and r["n"] != POOLED
+                     for x in r["candidates"][name]["ranks"]]
             a = ax[i, j]
             if ranks:
                 a.hist(ranks, bins=10, range=(0, 1), density=True, color="0.6")

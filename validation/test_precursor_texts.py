@@ -33,10 +33,18 @@ def test_scale_answer():
     charan, ishima, hertz = text.split(". ")
     assert charan.startswith("charan: N = 64") and "N = 1024 (1 runs, 10 drops): none" in charan
     assert "[not: n_pairs power 0.90, growth power 0.90 at f = 0.5]" in charan
-    assert "n_pairs (p 0.001), growth (p 0.001), min_real (p 0.001)" in ishima
+    assert "n_pairs (p 0.001*), growth (p 0.001*), min_real (p 0.001*)" in ishima
     assert "not:" not in ishima
     assert "n_pairs" not in hertz.split("N = 1024")[1]     # no pair: neither named nor 'not'
     assert text.index("N = 64") < text.index("N = 1024")
+    # named at p <= 0.05, starred only at p <= 0.05 / 4 (Bonferroni over four candidates)
+    v["ishima kt=1 N=64"]["candidates"]["pair_min_imag"]["pvalue"] = 0.03
+    assert "pair_min_imag (p 0.03)" in scale_answer(v).split(". ")[1]
+    # a pooled row (N = "all") is named last, whatever the order of the record
+    w = {"pooled": {**v["charan mu=0.1 kt=1 N=64"], "n": "all", "runs": 2, "drops": 20},
+         **v}
+    charan = scale_answer(w).split(". ")[0]
+    assert charan.index("N = 1024") < charan.index("all N pooled (2 runs, 20 drops)")
     from claims.precursors import scale_table
     table = scale_table(v)
     assert "| charan mu=0.1 kt=1 | 1024 | 1 | 2 | 10 |" in table     # core-h 1024 / 512
@@ -87,6 +95,27 @@ def test_the_study_reports_the_old_window_test():
     assert far["window1_pvalue"] == 1.0
     assert hit["seconds"] == 1800.0                # the compute of its one run
     assert "| preceded | 64 | 0.5 | 5 | 5/5 |" in ps.tables(list(rows.values()))
+
+
+def test_a_law_run_at_several_sizes_has_a_pooled_row():
+    """The pooled row is the ranked test on every drop of the law's sizes: its drops are the
+    sum, its onset ranks the union; the per-size rows are those of the sizes alone (the same
+    random streams); a law at one size has none; the figure does not count a drop twice."""
+    import precursor_study as ps
+    a, b = [60, 180, 300], [100, 250]
+    runs = {("law", 64): [_path([], a)], ("law", 128): [_path([], b)],
+            ("other", 64): [_path([], a)]}
+    rows = ps.analyse(runs, 5e-4, half_width=25, n_perm=99, n_rep=20)
+    by = {(r["law"], r["n"]): r for r in rows}
+    assert list(by) == [("law", 64), ("law", 128), ("other", 64), ("law", ps.POOLED)]
+    pool = by[("law", ps.POOLED)]
+    assert pool["drops"] == 5 and pool["runs"] == 2
+    for c in CANDIDATES:
+        ranks = by[("law", 64)]["candidates"][c]["ranks"] + by[("law", 128)]["candidates"][c]["ranks"]
+        assert pool["candidates"][c]["ranks"] == ranks
+        assert np.isclose(pool["candidates"][c]["statistic"], np.mean(ranks))
+    alone = ps.analyse({("law", 64): runs[("law", 64)]}, 5e-4, half_width=25, n_perm=99, n_rep=20)
+    assert alone[0]["candidates"] == by[("law", 64)]["candidates"]
 
 
 def test_old_sentence_and_the_check_of_the_old_test():

@@ -193,7 +193,7 @@ def _scale_show(v, label):
         yes = [f"{c} {t['statistic']:.2f} (p {t['pvalue']:.2g})"
                for c, t in r["candidates"].items()
                if t["statistic"] is not None and t["pvalue"] <= 0.05]
-        parts.append(f"N = {r['n']} ({r['drops']} drops): " + (", ".join(yes) or "none"))
+        parts.append(f"{_size(r)} ({r['drops']} drops): " + (", ".join(yes) or "none"))
     return "; ".join(parts)
 
 
@@ -210,21 +210,29 @@ def scale_table(v):
     return "\n\n" + "\n".join(lines) + "\n\n"
 
 
+def _size(r):
+    """'N = 512', or 'all N pooled' for a law's pooled row (precursor_study.POOLED)."""
+    return "all N pooled" if r["n"] == "all" else f"N = {r['n']}"
+
+
 def scale_answer(v):
     """The answer per law and size, computed at alpha = 0.05: the candidates extreme at the
-    onsets (p), and for a size where the pair count or growth rate is not, the power that
-    test had at a preceded fraction of 0.5 (what its 'no' can exclude)."""
+    onsets (p; starred where p <= 0.05 / 4, Bonferroni over the four candidates of a row),
+    and for a size where the pair count or growth rate is not, the power that test had at a
+    preceded fraction of 0.5 (what its 'no' can exclude); the law's pooled row last."""
     out = []
     for label in RANKED_LAWS.values():
         parts = []
-        for r in sorted((r for r in v.values() if r["law"] == label), key=lambda r: r["n"]):
+        for r in sorted((r for r in v.values() if r["law"] == label),
+                        key=lambda r: (r["n"] == "all", 0 if r["n"] == "all" else r["n"])):
             c = r["candidates"]
-            yes = [f"{k} (p {c[k]['pvalue']:.2g})" for k in CANDIDATES
+            yes = [f"{k} (p {c[k]['pvalue']:.2g}{'*' if c[k]['pvalue'] <= 0.05 / 4 else ''})"
+                   for k in CANDIDATES
                    if c[k]["statistic"] is not None and c[k]["pvalue"] <= 0.05]
             miss = [f"{k} power {c[k]['power_0.5']:.2f}" for k in ("n_pairs", "growth")
                     if c[k]["statistic"] is not None and c[k]["pvalue"] > 0.05
                     and c[k]["power_0.5"] is not None]
-            parts.append(f"N = {r['n']} ({r['runs']} runs, {r['drops']} drops): "
+            parts.append(f"{_size(r)} ({r['runs']} runs, {r['drops']} drops): "
                          + (", ".join(yes) or "none")
                          + (f" [not: {', '.join(miss)} at f = 0.5]" if miss else ""))
         out.append(f"{label.split()[0]}: " + "; ".join(parts))
