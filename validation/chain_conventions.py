@@ -44,7 +44,7 @@ sys.path.insert(0, str(HERE))        # the claims registry (validation/claims)
 
 import numpy as np  # noqa: E402
 
-from claims.core import half_unit, sigma_distance  # noqa: E402
+from claims.core import half_unit, sigma_distance, sigma_verdict  # noqa: E402
 from fricstab.analysis.spectrum import complex_pairs  # noqa: E402
 from fricstab.protocols.ramp import ramped_equilibrium, run_ramp  # noqa: E402
 from fricstab.protocols.waves import fit_waves, run_realization  # noqa: E402
@@ -175,11 +175,18 @@ def _ratio_row(name, waves, ims):
                               zip(waves["rows"], ims))) / len(ratio))
     dr = sigma(mean, err, *PAPER_RATIO)
     return (name, f"{mean:.2f} +- {err:.2f} (" + ", ".join(f"{x:.2f}" for x in ratio) + ")",
-            f"{dr:.1f} sigma", dr <= K)
+            f"{dr:.1f} sigma", _label([(mean, err, *PAPER_RATIO)]))
+
+
+def _label(items):
+    """A statistical comparison's word (claims.core.sigma_verdict at K): agrees, disagrees,
+    or undecided where a new set of realizations would flip it with probability >= 1/4."""
+    return sigma_verdict(items, K).label
 
 
 def judge(spec, waves, transverse):
-    """Each comparison of a reading with the paper: (name, ours text, distance text, agrees)."""
+    """Each comparison of a reading with the paper: (name, ours text, distance text, agrees:
+    a bool, or for a statistical one the word of :func:`_label`)."""
     out = []
     flags = [n > 0 for n in spec["probes"]]
     same = sum(f == p for f, p in zip(flags, PAPER_PAIRS))
@@ -199,7 +206,9 @@ def judge(spec, waves, transverse):
     v1 = [r["v1"] for r in waves["rows"]]
     dv = [sigma(r["v1"], r["v1_err"], *p) for r, p in zip(waves["rows"], PAPER_V1)]
     out.append(("v1", " / ".join("no breach" if not math.isfinite(x) else f"{x:.2e}" for x in v1),
-                " / ".join(f"{x:.1f}" for x in dv) + " sigma", max(dv) <= K))
+                " / ".join(f"{x:.1f}" for x in dv) + " sigma",
+                _label([(r["v1"], r["v1_err"], *p) for r, p in zip(waves["rows"], PAPER_V1)])
+                if all(map(math.isfinite, v1)) else False))
     out.append(_ratio_row("ratio", waves, spec["im_lambda"]))
     out.append(_ratio_row("ratio_onset", waves, spec["onset_pair_im"]))
     v2s = [(r["v2"], r["v2_err"]) for r in waves["rows"] if math.isfinite(r["v2"])
@@ -209,7 +218,8 @@ def judge(spec, waves, transverse):
         v2 = float((w * [v for v, _ in v2s]).sum() / w.sum())
         e2 = float(1 / math.sqrt(w.sum()))
         d2 = sigma(v2, e2, float(PAPER_V2), half_unit(PAPER_V2))
-        out.append(("v2", f"{v2:.3f} +- {e2:.3f}", f"{d2:.1f} sigma", d2 <= K))
+        out.append(("v2", f"{v2:.3f} +- {e2:.3f}", f"{d2:.1f} sigma",
+                    _label([(v2, e2, float(PAPER_V2), half_unit(PAPER_V2))])))
     else:
         out.append(("v2", "no sliding", "not comparable", False))
     if transverse is not None:
@@ -246,9 +256,12 @@ def run(n_real=25):
     for name, (sc, dc) in READINGS.items():
         rows = judge(spectra[sc], waves[dc], transverse[sc])
         readings[name] = {"spectrum": sc, "dynamics": dc,
-                          "rows": [{"what": w, "ours": o, "distance": d, "agrees": bool(a)}
-                                   for w, o, d, a in rows],
-                          "agreements": int(sum(a for *_, a in rows)), "compared": len(rows)}
+                          "rows": [{"what": w, "ours": o, "distance": d,
+                                    "agrees": a == "agrees" if isinstance(a, str) else bool(a),
+                                    "undecided": a == "undecided"} for w, o, d, a in rows],
+                          "compared": len(rows)}
+        readings[name]["agreements"] = sum(r["agrees"] for r in readings[name]["rows"])
+        readings[name]["undecided"] = sum(r["undecided"] for r in readings[name]["rows"])
     best = max(readings.values(), key=lambda r: r["agreements"])["agreements"]
     printed = paper_ratio_from_printed()
     values = {"realizations": n_real, "spectra": spectra, "waves": waves,
@@ -303,11 +316,14 @@ def report(values, seconds):
         cells = []
         for n in names:
             r = values["readings"][n]["rows"][i]
-            word = "agrees" if r["agrees"] else "disagrees"
+            word = "agrees" if r["agrees"] else ("undecided" if r.get("undecided")
+                                                 else "disagrees")
             cells.append(f"{r['ours']}; {r['distance']} ({word})")
         lines.append(f"| {WHAT.get(row['what'], row['what'])} | " + " | ".join(cells) + " |")
     lines.append("| **agreements** | " + " | ".join(
         f"**{values['readings'][n]['agreements']} of {values['readings'][n]['compared']}**"
+        + (f" ({values['readings'][n]['undecided']} undecided)"
+           if values["readings"][n].get("undecided") else "")
         for n in names) + " |")
     p = values["paper_ratio_from_printed"]
     lines += [

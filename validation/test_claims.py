@@ -66,8 +66,8 @@ def test_every_verdict_is_computed():
         rec = records.load(c.job_name)
         if rec is not None:
             v = c.judge(values_of(rec))
-            assert v.label in {"agrees", "disagrees", "meets", "fails", "measured",
-                               "not comparable"}, (c.name, v)
+            assert v.label in {"agrees", "disagrees", "undecided", "meets", "fails",
+                               "measured", "not comparable"}, (c.name, v)
 
 
 # ------------------------------------------------------------ the checks can fail
@@ -318,3 +318,38 @@ def test_numba_modules_and_tests_count_whole():
         if rec is not None and "functions" in rec["fingerprint"]:
             for m in rec["fingerprint"]["functions"]:
                 assert not whole_module(m, (ROOT / m).read_text()), (job, m)
+
+
+def test_a_sigma_verdict_within_its_own_spread_is_undecided():
+    """d = |ours - paper| / combined; over new samples of ours d has sd m = ours_err /
+    combined.  Agree if every d + z m <= 2, disagree if some d - z m > 2 (z = 0.674: a
+    flip with probability 1/4), else undecided; a value of ours without sampling error
+    keeps the plain rule (m = 0)."""
+    from claims.core import sigma_verdict
+    assert sigma_verdict([(2.1, 0.0, 0.0, 1.0)]).label == "disagrees"     # m = 0
+    assert sigma_verdict([(1.9, 0.0, 0.0, 1.0)]).label == "agrees"
+    # ours_err = paper_err = 1: combined 1.414, z m = 0.477; 2.5 / 1.414 = 1.77: 1.77 + 0.48
+    v = sigma_verdict([(2.5, 1.0, 0.0, 1.0)])
+    assert v.label == "undecided" and v.ok is None and "within 0.5 of 2" in v.detail
+    assert sigma_verdict([(2.1, 1.0, 0.0, 1.0)]).label == "agrees"       # 1.48 + 0.48
+    assert sigma_verdict([(4.0, 1.0, 0.0, 1.0)]).label == "disagrees"    # 2.83 - 0.48
+    assert sigma_verdict([(3.5, 1.0, 0.0, 1.0)]).label == "undecided"    # 2.47 - 0.48
+    # one decided disagreement decides the whole; an undecided item blocks "agrees"
+    assert sigma_verdict([(0.5, 1.0, 0.0, 1.0), (4.0, 1.0, 0.0, 1.0)]).label == "disagrees"
+    assert sigma_verdict([(0.5, 1.0, 0.0, 1.0), (2.5, 1.0, 0.0, 1.0)]).label == "undecided"
+
+
+def test_a_comparison_under_tied_readings_that_differ_is_undecided():
+    """chain.conv_*: the word under the reading with the most agreements; two readings tied
+    for the most with different words leave it undecided, with the same word keep it."""
+    from claims.chain_conventions import _verdict
+
+    def values(a_agrees, b_agrees, best):
+        row = lambda ok: {"what": "onset", "ours": "x", "distance": "1.0 sigma",  # noqa: E731
+                          "agrees": ok, "undecided": False}
+        return {"best": best, "readings": {"a": {"rows": [row(a_agrees)]},
+                                           "b": {"rows": [row(b_agrees)]}}}
+    assert _verdict("onset")(values(True, False, ["a", "b"])).label == "undecided"
+    assert _verdict("onset")(values(True, True, ["a", "b"])).label == "agrees"
+    assert _verdict("onset")(values(False, True, ["a"])).label == "disagrees"
+    assert "tied" in _verdict("onset")(values(True, False, ["a", "b"])).detail

@@ -67,16 +67,26 @@ def _show(what):
     return show
 
 
+def _word(r):
+    return "agrees" if r["agrees"] else ("undecided" if r.get("undecided") else "disagrees")
+
+
 def _verdict(what):
+    """The row's word under the reading with the most agreements; where readings tie for
+    the most and their words differ, undecided (which reading holds is not decided)."""
     def verdict(v):
-        best = _best(v)
-        r = _row(v, best, what)
+        best = v["best"]
+        words = {k: _word(_row(v, k, what)) for k in best}
+        r = _row(v, best[0], what)
+        label = words[best[0]] if len(set(words.values())) == 1 else "undecided"
         others = ", ".join(f"{k} {_row(v, k, what)['distance']}" for k in v["readings"]
-                           if k != best)
-        label = "agrees" if r["agrees"] else "disagrees"
+                           if k not in best)
+        tie = "" if len(best) == 1 else (" (tied for the most agreements with "
+                                         + ", ".join(f"{k}: {_row(v, k, what)['distance']}, "
+                                                     f"{words[k]}" for k in best[1:]) + ")")
         rule = "; agree within 2 sigma" if "sigma" in r["distance"] else ""
-        return Verdict(label, f"under {best} (the reading with the most agreements): "
-                              f"{r['distance']}; {others}{rule}")
+        return Verdict(label, f"under {best[0]} (the reading with the most agreements): "
+                              f"{r['distance']}{tie}; {others}{rule}")
     return verdict
 
 
@@ -115,6 +125,8 @@ CLAIMS = [
           "which reading of 'the eigenvalues of J' and of the inertia reproduces the most of "
           "the paper's numbers (the rows above)", "minutes", _CMD, conventions,
           show=lambda v: "; ".join(f"{k}: {r['agreements']} of {r['compared']}"
+                                   + (f" ({r['undecided']} undecided)" if r.get("undecided")
+                                      else "")
                                    for k, r in v["readings"].items())
           + f"; the paper's printed V1 / Im give {v['paper_ratio_from_printed']['mean']:.2f} "
             f"+- {v['paper_ratio_from_printed']['std']:.2f}, not its 4.3",

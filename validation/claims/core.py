@@ -21,6 +21,7 @@ Helpers below build the two kinds of computed judgement:
 """
 
 import math
+import statistics
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -29,8 +30,8 @@ TIERS = ("seconds", "minutes", "hours")
 
 @dataclass(frozen=True)
 class Verdict:
-    """A computed judgement: ``label`` (agrees, disagrees, meets, fails, measured,
-    not comparable) and the distance or test behind it."""
+    """A computed judgement: ``label`` (agrees, disagrees, undecided, meets, fails,
+    measured, not comparable) and the distance or test behind it."""
 
     label: str
     detail: str = ""
@@ -38,7 +39,7 @@ class Verdict:
     @property
     def ok(self):
         """True where the label says agreement, False where it says the opposite,
-        None where nothing is compared."""
+        None where nothing is compared or the comparison is undecided."""
         return {"agrees": True, "meets": True, "disagrees": False, "fails": False}.get(self.label)
 
     def __str__(self):
@@ -183,12 +184,41 @@ def sigma_distance(ours, ours_err, paper, paper_err):
     return math.fabs(ours - paper) / s if s > 0 else (0.0 if ours == paper else math.inf)
 
 
+#: a statistical verdict is undecided where a new sample of ours would flip it with at least
+#: this probability
+FLIP = 0.25
+
+
 def sigma_verdict(items, k=2.0):
     """Verdict over (ours, ours_err, paper, paper_err) items: agrees where every
-    distance is at most ``k`` combined standard errors."""
+    distance is at most ``k`` combined standard errors, disagrees where one is beyond.
+
+    A distance is itself uncertain: a new set of realizations moves ours by about
+    ``ours_err``, so the distance ``d`` by ``m = ours_err / combined`` (0 for a value of
+    ours without sampling error).  Where a new sample would flip the label with probability
+    ``FLIP`` or more (normal: ``|d - k| < z m``, ``z`` = 0.67 for 1/4) on an item that
+    decides it, the verdict is **undecided**: more realizations, not the rounding of one
+    machine, must decide it."""
+    z = statistics.NormalDist().inv_cdf(1.0 - FLIP)
     d = [sigma_distance(*it) for it in items]
-    label = "agrees" if max(d) <= k else "disagrees"
-    return Verdict(label, " / ".join(f"{x:.1f}" for x in d) + f" combined sigma; agree if <= {k:g}")
+    m = [z * _spread(*it) for it in items]
+    if all(x + e <= k for x, e in zip(d, m)):
+        label = "agrees"
+    elif any(x - e > k for x, e in zip(d, m)):
+        label = "disagrees"
+    else:
+        label = "undecided"
+    text = " / ".join(f"{x:.1f}" for x in d) + f" combined sigma; agree if <= {k:g}"
+    if label == "undecided":
+        text += (f"; undecided: a new sample flips it with probability >= {FLIP:g} (within "
+                 + " / ".join(f"{e:.1f}" for e in m) + f" of {k:g})")
+    return Verdict(label, text)
+
+
+def _spread(ours, ours_err, paper, paper_err):
+    """The standard deviation of a distance over new samples of ours: ours_err / combined."""
+    s = math.hypot(ours_err, paper_err)
+    return ours_err / s if s > 0 else 0.0
 
 
 def rel_verdict(ours, paper, tol):

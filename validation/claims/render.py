@@ -41,8 +41,11 @@ the claims whose code changed since they were recorded.  How it works:
 `docs/howto/reproduce.md`.
 
 Verdicts: **agrees** / **disagrees** (ours against the paper, by the distance
-shown), **meets** / **fails** (against a bound we or an issue set), **measured**
-(nothing to compare with).
+shown), **undecided** (a distance in combined standard errors that a new sample of
+ours would carry across the threshold with probability 1/4 or more: more
+realizations must decide it), **meets** /
+**fails** (against a bound we or an issue set), **measured** (nothing to compare
+with).
 """
 
 
