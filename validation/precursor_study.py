@@ -358,12 +358,23 @@ def pooled(runs):
     return groups
 
 
+def sizes_differ(ranks):
+    """Kruskal-Wallis p that the onset ranks of the sizes (one list per size) come from one
+    distribution: small where the sizes' preceded fractions differ, so the pooled row's
+    assumption fails.  NaN with fewer than two sizes with ranks, or all ranks equal."""
+    from scipy.stats import kruskal
+    groups = [g for g in ranks if len(g)]
+    if len(groups) < 2 or len({x for g in groups for x in g}) < 2:
+        return float("nan")
+    return float(kruskal(*groups).pvalue)
+
+
 def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
     """Per (law, N): drops, the ranked test and power per candidate, the old birth-window
     tests' outcome (preceded drops, p) and power; per law run at several sizes, the same on
     all its drops pooled (N = ``POOLED``: each onset ranked in its own path's window, so
     ranks of different sizes are one sample of the null; pooling assumes one preceded
-    fraction at every size, which the per-size rows show or not)."""
+    fraction at every size, which ``sizes_pvalue`` tests: :func:`sizes_differ`)."""
     rows = []
     for i, ((label, n), rs) in enumerate(pooled(runs).items()):
         onsets = [[d.step - 1 for d in detect_drops(r["strain"], r["stress"])] for r in rs]
@@ -381,6 +392,9 @@ def analyse(runs, dgamma, half_width, n_perm, n_rep, seed=0):
             for f in FRACTIONS:
                 t[f"power_{f:g}"] = float("nan") if t["constant"] else \
                     power(paths, f, half_width, n_rep, 199, rng, alt)["power"]
+            if n == POOLED:
+                t["sizes_pvalue"] = sizes_differ([r["candidates"][name]["ranks"] for r in rows
+                                                  if r["law"] == label])
             row["candidates"][name] = t
         old = _old_runs(rs)
         for w in WINDOW_STEPS:
@@ -407,15 +421,16 @@ def tables(rows):
     """Markdown: the ranked test per candidate; the old tests' outcome and power, and the
     compute of the runs (core-hours)."""
     lines = ["| law | N | runs | drops | candidate | direction | drops ranked | mean rank "
-             "(null mean +- sd) | p | power f = 0.5 | power f = 0.8 |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "(null mean +- sd) | p | power f = 0.5 | power f = 0.8 | sizes differ: p |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         for name, t in r["candidates"].items():
             lines.append(
                 f"| {r['law']} | {r['n']} | {r['runs']} | {r['drops']} | {name} | "
                 f"{'high' if t['alternative'] == 'greater' else 'low'} | {t['drops']} | "
                 f"{_g(t['statistic'])} ({_g(t['null_mean'])} +- {_g(t['null_sd'])}) | "
-                f"{_g(t['pvalue'], '{:.3g}')} | {_g(t['power_0.5'])} | {_g(t['power_0.8'])} |")
+                f"{_g(t['pvalue'], '{:.3g}')} | {_g(t['power_0.5'])} | {_g(t['power_0.8'])} | "
+                f"{_g(t.get('sizes_pvalue'), '{:.2g}')} |")
     lines += ["", "| law | N | core-h | drops | " + " | ".join(
         f"{w} step{'s' if w > 1 else ''}: preceded | null p0 | p | power f = 0.5 / 0.8"
         for w in WINDOW_STEPS) + " |", "|---|---|---|---|" + "---|---|---|---|" * len(WINDOW_STEPS)]

@@ -41,10 +41,11 @@ def test_scale_answer():
     v["ishima kt=1 N=64"]["candidates"]["pair_min_imag"]["pvalue"] = 0.03
     assert "pair_min_imag (p 0.03)" in scale_answer(v).split(". ")[1]
     # a pooled row (N = "all") is named last, whatever the order of the record
-    w = {"pooled": {**v["charan mu=0.1 kt=1 N=64"], "n": "all", "runs": 2, "drops": 20},
-         **v}
-    charan = scale_answer(w).split(". ")[0]
+    pool = {**v["charan mu=0.1 kt=1 N=64"], "n": "all", "runs": 2, "drops": 20}
+    pool["candidates"] = {c: dict(t, sizes_pvalue=0.42) for c, t in pool["candidates"].items()}
+    charan = scale_answer({"pooled": pool, **v}).split(". ")[0]
     assert charan.index("N = 1024") < charan.index("all N pooled (2 runs, 20 drops)")
+    assert "min_real (p 0.001*; sizes differ p 0.42)" in charan.split("pooled")[1]
     from claims.precursors import scale_table
     table = scale_table(v)
     assert "| charan mu=0.1 kt=1 | 1024 | 1 | 2 | 10 |" in table     # core-h 1024 / 512
@@ -114,6 +115,13 @@ def test_a_law_run_at_several_sizes_has_a_pooled_row():
         ranks = by[("law", 64)]["candidates"][c]["ranks"] + by[("law", 128)]["candidates"][c]["ranks"]
         assert pool["candidates"][c]["ranks"] == ranks
         assert np.isclose(pool["candidates"][c]["statistic"], np.mean(ranks))
+        assert 0 < pool["candidates"][c]["sizes_pvalue"] <= 1
+        assert "sizes_pvalue" not in by[("law", 64)]["candidates"][c]
+    assert "| law | all | 2 | 5 | n_pairs |" in ps.tables(rows)
+    # Kruskal-Wallis across sizes: one distribution, or two far apart
+    assert ps.sizes_differ([[0.1, 0.5, 0.9], [0.2, 0.5, 0.8]]) > 0.5
+    assert ps.sizes_differ([[0.9, 0.95, 1.0, 0.92], [0.0, 0.05, 0.1, 0.02]]) < 0.05
+    assert np.isnan(ps.sizes_differ([[0.5, 0.5], [0.5]])) and np.isnan(ps.sizes_differ([[0.3]]))
     alone = ps.analyse({("law", 64): runs[("law", 64)]}, 5e-4, half_width=25, n_perm=99, n_rep=20)
     assert alone[0]["candidates"] == by[("law", 64)]["candidates"]
 

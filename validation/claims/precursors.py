@@ -37,7 +37,7 @@ def ranked_run():
                   units=doc["units"])
 
 
-KEEP = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8")
+KEEP = ("statistic", "null_sd", "pvalue", "drops", "power_0.5", "power_0.8", "sizes_pvalue")
 #: the old 1-step birth-window test (issue 17): drops tested, preceded, p, power at f = 0.8,
 #: and its null fraction p0 (0: no pair was ever born on the law's paths)
 OLD = ("window1_tested", "window1_preceded", "window1_pvalue", "window1_power_0.8", "window1_p0")
@@ -47,7 +47,8 @@ def _row(r):
     """What a claim records of a study row: its drops, the old test and, per candidate, the
     ranked test's numbers."""
     return {"drops": r["drops"], **{k: r[k] for k in OLD},
-            "candidates": {c: {k: t[k] for k in KEEP} for c, t in r["candidates"].items()}}
+            "candidates": {c: {k: t[k] for k in KEEP if k in t}
+                           for c, t in r["candidates"].items()}}
 
 
 def _law_rows(doc):
@@ -215,9 +216,16 @@ def _size(r):
     return "all N pooled" if r["n"] == "all" else f"N = {r['n']}"
 
 
+def _sizes(t):
+    """For a pooled row's candidate: whether its sizes' onset ranks differ (Kruskal-Wallis)."""
+    p = t.get("sizes_pvalue")
+    return "" if p is None else f"; sizes differ p {p:.2g}"
+
+
 def scale_answer(v):
     """The answer per law and size, computed at alpha = 0.05: the candidates extreme at the
-    onsets (p; starred where p <= 0.05 / 4, Bonferroni over the four candidates of a row),
+    onsets (p; starred where p <= 0.05 / 4, Bonferroni over the four candidates of a row;
+    on the pooled row, the Kruskal-Wallis p that its sizes' ranks differ),
     and for a size where the pair count or growth rate is not, the power that test had at a
     preceded fraction of 0.5 (what its 'no' can exclude); the law's pooled row last."""
     out = []
@@ -226,8 +234,8 @@ def scale_answer(v):
         for r in sorted((r for r in v.values() if r["law"] == label),
                         key=lambda r: (r["n"] == "all", 0 if r["n"] == "all" else r["n"])):
             c = r["candidates"]
-            yes = [f"{k} (p {c[k]['pvalue']:.2g}{'*' if c[k]['pvalue'] <= 0.05 / 4 else ''})"
-                   for k in CANDIDATES
+            yes = [f"{k} (p {c[k]['pvalue']:.2g}{'*' if c[k]['pvalue'] <= 0.05 / 4 else ''}"
+                   + _sizes(c[k]) + ")" for k in CANDIDATES
                    if c[k]["statistic"] is not None and c[k]["pvalue"] <= 0.05]
             miss = [f"{k} power {c[k]['power_0.5']:.2f}" for k in ("n_pairs", "growth")
                     if c[k]["statistic"] is not None and c[k]["pvalue"] > 0.05
