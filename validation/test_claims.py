@@ -353,3 +353,27 @@ def test_a_comparison_under_tied_readings_that_differ_is_undecided():
     assert _verdict("onset")(values(True, True, ["a", "b"])).label == "agrees"
     assert _verdict("onset")(values(False, True, ["a"])).label == "disagrees"
     assert "tied" in _verdict("onset")(values(True, False, ["a", "b"])).detail
+
+
+def test_chaotic_runs_over_seeds_are_judged_as_samples():
+    """chain.fig3_*: a statement that every seed makes is judged exactly; one the seeds
+    split on is undecided.  'About 10^-5' is judged in log10 with half a decade as the
+    paper's error: ours at 10^-5 exactly agrees, three decades away disagrees, and the
+    geometric mean of values 1e-6 and 1e-4 is 1e-5."""
+    import math
+
+    from claims.chain import _decade_verdict, _geo, _seeds_verdict
+    runs = lambda *b: {"k": {"runs": [{"ok": x} for x in b]}}  # noqa: E731
+    assert _seeds_verdict(runs(True, True), ("k",), lambda r: r["ok"], True, "x").label \
+        == "agrees"
+    assert _seeds_verdict(runs(False, False), ("k",), lambda r: r["ok"], True, "x").label \
+        == "disagrees"
+    v = _seeds_verdict(runs(True, False, True), ("k",), lambda r: r["ok"], True, "x")
+    assert v.label == "undecided" and "2 of 3 runs" in v.detail
+    g, e = _geo([1e-6, 1e-4])
+    assert math.isclose(g, 1e-5) and math.isclose(e, 1.0)  # sd sqrt(2) over sqrt(2)
+    assert math.isclose(_geo([3e-5])[0], 3e-5) and _geo([3e-5])[1] == 0.0
+    assert _decade_verdict([(1e-5, 0.0)], 1e-5, "10^-5").label == "agrees"
+    assert _decade_verdict([(1e-8, 0.0)], 1e-5, "10^-5").label == "disagrees"
+    # 1.2 decades away with 0.6 decades of its own error: within its spread of the line
+    assert _decade_verdict([(10 ** -3.8, 0.6)], 1e-5, "10^-5").label == "undecided"
