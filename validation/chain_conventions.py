@@ -44,6 +44,7 @@ sys.path.insert(0, str(HERE))        # the claims registry (validation/claims)
 
 import numpy as np  # noqa: E402
 
+from claims.chain_conventions import row_word  # noqa: E402
 from claims.core import half_unit, sigma_distance, sigma_verdict  # noqa: E402
 from fricstab.analysis.spectrum import complex_pairs  # noqa: E402
 from fricstab.protocols.ramp import ramped_equilibrium, run_ramp  # noqa: E402
@@ -316,9 +317,7 @@ def report(values, seconds):
         cells = []
         for n in names:
             r = values["readings"][n]["rows"][i]
-            word = "agrees" if r["agrees"] else ("undecided" if r.get("undecided")
-                                                 else "disagrees")
-            cells.append(f"{r['ours']}; {r['distance']} ({word})")
+            cells.append(f"{r['ours']}; {r['distance']} ({row_word(r)})")
         lines.append(f"| {WHAT.get(row['what'], row['what'])} | " + " | ".join(cells) + " |")
     lines.append("| **agreements** | " + " | ".join(
         f"**{values['readings'][n]['agreements']} of {values['readings'][n]['compared']}**"
@@ -329,7 +328,7 @@ def report(values, seconds):
     lines += [
         "",
         f"* Most agreements: {', '.join(values['best'])}.",
-        f"* The paper's own printed V1 and Im values give V1 / Im = "
+        "* The paper's own printed V1 and Im values give V1 / Im = "
         + ", ".join(f"{x:.2f}" for x in p["ratios"])
         + f", mean {p['mean']:.2f} +- {p['std']:.2f} (spread), not the printed 4.3 +- 1.5.",
         "* Pair events on each ramp (b: birth, d: death), F_x:",

@@ -67,7 +67,9 @@ def _show(what):
     return show
 
 
-def _word(r):
+def row_word(r):
+    """A judged row's word (validation/chain_conventions.py judge): agrees, undecided or
+    disagrees."""
     return "agrees" if r["agrees"] else ("undecided" if r.get("undecided") else "disagrees")
 
 
@@ -76,7 +78,7 @@ def _verdict(what):
     the most and their words differ, undecided (which reading holds is not decided)."""
     def verdict(v):
         best = v["best"]
-        words = {k: _word(_row(v, k, what)) for k in best}
+        words = {k: row_word(_row(v, k, what)) for k in best}
         r = _row(v, best[0], what)
         label = words[best[0]] if len(set(words.values())) == 1 else "undecided"
         others = ", ".join(f"{k} {_row(v, k, what)['distance']}" for k in v["readings"]
