@@ -9,7 +9,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from claims.precursors import CANDIDATES, RANKED_LAWS, scale_answer  # noqa: E402
+from claims.precursors import CANDIDATES, RANKED_LAWS, scale_answer, scale_headline  # noqa: E402
 
 
 def _cand(p, power=0.9, none=False):
@@ -50,6 +50,37 @@ def test_scale_answer():
     table = scale_table(v)
     assert "| charan mu=0.1 kt=1 | 1024 | 1 | 2 | 10 |" in table     # core-h 1024 / 512
     assert table.count("4/10, p 0.9, power 0.70") == 6
+
+
+def test_scale_headline():
+    """Per law from its pooled row: precedes (p <= 0.05 / 4, sizes agree), size-dependent
+    (Kruskal p <= 0.05, the sizes where extreme named), weak (0.05 / 4 < p <= 0.05), not
+    seen (p > 0.05, with its power at f = 0.5); a candidate never ranked is left out."""
+    def row(label, n, ps, sizes_p=None):
+        return {"law": label, "n": n, "runs": 3, "drops": 30,
+                "candidates": {c: dict(_cand(p, power=0.93, none=p is None),
+                                       **({} if sizes_p is None else {"sizes_pvalue": sizes_p[c]}))
+                               for c, p in zip(CANDIDATES, ps)}}
+    lab = RANKED_LAWS["ishima"]
+    v = {"a": row(lab, 64, (0.001, 0.001, 0.001, 0.5)),
+         "b": row(lab, 1024, (0.2, 0.001, 0.4, 0.5)),
+         "c": row(lab, "all", (0.001, 0.03, 0.001, 0.5),
+                  {"n_pairs": 0.3, "growth": 0.5, "min_real": 0.004, "pair_min_imag": 0.8}),
+         "d": row(RANKED_LAWS["hertz"], "all", (None, 0.3, 0.001, None),
+                  {"n_pairs": None, "growth": 0.2, "min_real": 0.6, "pair_min_imag": None})}
+    text = scale_headline(v)
+    ishima, hertz = text.split(". ")
+    assert ishima.startswith("ishima (30 drops, 3 runs): n_pairs precedes (rank 0.70, p 0.001; "
+                             "sizes agree p 0.3)")
+    assert "growth weak (rank 0.70, p 0.03: not at 0.05 / 4)" in ishima
+    assert "min_real size-dependent (rank 0.70, p 0.001; sizes differ p 0.004; extreme at " \
+           "N = 64)" in ishima
+    assert "pair_min_imag not seen (rank 0.70, p 0.5; power 0.93 against a preceded " \
+           "fraction of 0.5)" in ishima
+    assert "n_pairs" not in hertz and "pair_min_imag" not in hertz
+    assert "min_real precedes" in hertz and "growth not seen" in hertz
+    # a law without a pooled row (one size) has no headline
+    assert "charan" not in text
 
 
 def test_fi_answer():

@@ -196,7 +196,8 @@ def _scale_show(v, label):
                for c, t in r["candidates"].items()
                if t["statistic"] is not None and t["pvalue"] <= 0.05]
         parts.append(f"{_size(r)} ({r['drops']} drops): " + (", ".join(yes) or "none"))
-    return "; ".join(parts)
+    head = law_headline(v, label)
+    return (f"{head}. Per N at p <= 0.05: " if head else "") + "; ".join(parts)
 
 
 def scale_table(v):
@@ -248,6 +249,55 @@ def scale_answer(v):
     return ". ".join(out)
 
 
+def _significant_sizes(v, label, cand):
+    """The sizes (per-size rows of a law) where ``cand`` is extreme at alpha = 0.05."""
+    return [r["n"] for r in sorted((r for r in v.values() if r["law"] == label
+                                    and r["n"] != "all"), key=lambda r: r["n"])
+            if r["candidates"][cand]["pvalue"] is not None
+            and r["candidates"][cand]["pvalue"] <= 0.05]
+
+
+def law_headline(v, label):
+    """One law's headline from its pooled row (every drop of every size; None without one):
+    per candidate **precedes** where the pooled p <= 0.05 / 4 and the sizes' onset ranks do
+    not differ (Kruskal-Wallis p > 0.05); **size-dependent** where they differ (the sizes
+    where it is extreme named); **not seen** where the pooled p > 0.05, with the pooled test's
+    power at a preceded fraction of 0.5 (what its 'no' excludes); **weak** between.  A
+    candidate without a rank on any drop (hertz's pair count) is left out."""
+    pool = next((r for r in v.values() if r["law"] == label and r["n"] == "all"), None)
+    if pool is None:
+        return None
+    words = []
+    for k in CANDIDATES:
+        t = pool["candidates"][k]
+        if t["statistic"] is None:
+            continue
+        p, sp = t["pvalue"], t.get("sizes_pvalue")
+        at = f"rank {t['statistic']:.2f}, p {p:.2g}"
+        if sp is not None and sp <= 0.05:
+            sizes = _significant_sizes(v, label, k)
+            words.append(f"{k} size-dependent ({at}; sizes differ p {sp:.2g}; extreme at "
+                         + (f"N = {', '.join(map(str, sizes))}" if sizes else "no single N")
+                         + ")")
+        elif p <= 0.05 / 4:
+            words.append(f"{k} precedes ({at}; sizes agree p "
+                         + ("-" if sp is None else f"{sp:.2g}") + ")")
+        elif p <= 0.05:
+            words.append(f"{k} weak ({at}: not at 0.05 / 4)")
+        else:
+            pw = t["power_0.5"]
+            words.append(f"{k} not seen ({at}" + ("" if pw is None else
+                         f"; power {pw:.2f} against a preceded fraction of 0.5") + ")")
+    return (f"{label.split()[0]} ({pool['drops']} drops, {pool['runs']} runs): "
+            + "; ".join(words))
+
+
+def scale_headline(v):
+    """Every law's :func:`law_headline` (laws run at one size only are left out)."""
+    return ". ".join(h for h in (law_headline(v, label) for label in RANKED_LAWS.values())
+                     if h is not None)
+
+
 CLAIMS = [Claim(f"precursors.scale_{law}", "precursors",
                 f"{law}: ranked test at N = 64 to 1,024 ({', '.join(map(str, SCALE_SEEDS))} seeds): "
                 "per N the "
@@ -255,7 +305,8 @@ CLAIMS = [Claim(f"precursors.scale_{law}", "precursors",
                 SCALE_COMMAND, scale_run, show=lambda v, label=label: _scale_show(v, label),
                 tolerance=" ".join(_check_ranked.__doc__.split()), check=_check_ranked,
                 job="precursors.scale",
-                texts={"table": scale_table, "answer": scale_answer} if law == "charan"
+                texts={"table": scale_table, "answer": scale_answer,
+                       "headline": scale_headline} if law == "charan"
                 else {})
           for law, label in RANKED_LAWS.items()]
 
