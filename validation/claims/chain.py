@@ -360,6 +360,14 @@ def _per_seed_level(v, key):
     return ", ".join(f"{math.sqrt(r['late_min'] * r['late_max']):.1e}" for r in v[key]["runs"])
 
 
+def _at_0062(v):
+    """F_x = 0.062 over the seeds: how many stable, how far M goes, disks breached."""
+    k, n = _count(v, "f0.062", _stable)
+    return (f"stable in {k} of {n} seeds; M reaches up to "
+            f"{max(r['late_max'] for r in v['f0.062']['runs']):.1e}; disks breached within "
+            f"20,000 time units per seed {_per_seed(v, 'f0.062', 'breached')} of 10")
+
+
 def _per_seed(v, key, field, spec="{}"):
     return ", ".join(spec.format(r[field]) for r in v[key]["runs"])
 
@@ -762,22 +770,14 @@ CLAIMS = [
     Claim("chain.fig3_0062", "chain",
           "F_x = 0.062 (Fig. 3): stable, or not (20,000 time units, 4 seeds)",
           "minutes", _DYN_COMMAND.format(fx="0.062", duration=20000), dynamics,
-          show=lambda v: (f"stable in {_count(v, 'f0.062', _stable)[0]} of "
-                          f"{_count(v, 'f0.062', _stable)[1]} seeds; M reaches "
-                          f"{max(r['late_max'] for r in v['f0.062']['runs']):.1e}; disks breached "
-                          f"per seed {_per_seed(v, 'f0.062', 'breached')}; centre of mass moves "
+          show=lambda v: (_at_0062(v) + "; centre of mass moves "
                           f"{_per_seed(v, 'f0.062', 'com_moved', '{:.2f}')} (2R)"),
           tolerance="per seed stable or not exact (M below 1e-3 and no breach)", check=_dyn_check,
           paper="'the system is stable and M(t) remains minute'",
           verdict=lambda v: _seeds_verdict(v, ("f0.062",), _stable, True,
                                            "stable (M < 1e-3, no breach)"),
           job="chain.dynamics",
-          texts={"doc": lambda v: (
-              f"at 0.062 our chain is stable in {_count(v, 'f0.062', _stable)[0]} of "
-              f"{_count(v, 'f0.062', _stable)[1]} seeds (M(t) reaches up to "
-              f"{max(r['late_max'] for r in v['f0.062']['runs']):.1e}; disks that breach within "
-              f"20,000 time units, per seed: {_per_seed(v, 'f0.062', 'breached')} of 10; "
-              "paper: stable)")}),
+          texts={"doc": lambda v: f"at 0.062 our chain is {_at_0062(v)} (paper: stable)"}),
     Claim("chain.fig3_0083", "chain",
           "F_x = 0.083 (Figs. 3, 4, 7): Coulomb breach and transition to sliding (4 seeds)",
           "minutes", _DYN_COMMAND.format(fx="0.083", duration=20000), dynamics,
