@@ -31,7 +31,7 @@ def test_scale_answer():
                                                  for c in CANDIDATES}}
     text = scale_answer(v)
     charan, ishima, hertz = text.split(". ")
-    assert charan.startswith("charan: N = 64") and "N = 1024 (1 runs, 10 drops): none" in charan
+    assert charan.startswith("charan: N = 64") and "N = 1024 (1 run, 10 drops): none" in charan
     assert "[not: n_pairs power 0.90, growth power 0.90 at f = 0.5]" in charan
     assert "n_pairs (p 0.001*), growth (p 0.001*), min_real (p 0.001*)" in ishima
     assert "not:" not in ishima
@@ -78,6 +78,8 @@ def test_scale_headline():
     assert "pair_min_imag not seen (rank 0.70, p 0.5; power 0.93 against a preceded " \
            "fraction of 0.5)" in ishima
     assert "n_pairs" not in hertz and "pair_min_imag" not in hertz
+    v["d"]["candidates"]["n_pairs"] = dict(_cand(1.0), **{"power_0.5": None})
+    assert "n_pairs untestable (the same at every state: no power)" in scale_headline(v)
     assert "min_real precedes" in hertz and "growth not seen" in hertz
     # a law without a pooled row (one size) has no headline
     assert "charan" not in text

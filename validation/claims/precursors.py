@@ -213,6 +213,10 @@ def scale_table(v):
     return "\n\n" + "\n".join(lines) + "\n\n"
 
 
+def _runs(n):
+    return f"{n} run" + ("" if n == 1 else "s")
+
+
 def _size(r):
     """'N = 512', or 'all N pooled' for a law's pooled row (precursor_study.POOLED)."""
     return "all N pooled" if r["n"] == "all" else f"N = {r['n']}"
@@ -242,7 +246,7 @@ def scale_answer(v):
             miss = [f"{k} power {c[k]['power_0.5']:.2f}" for k in ("n_pairs", "growth")
                     if c[k]["statistic"] is not None and c[k]["pvalue"] > 0.05
                     and c[k]["power_0.5"] is not None]
-            parts.append(f"{_size(r)} ({r['runs']} runs, {r['drops']} drops): "
+            parts.append(f"{_size(r)} ({_runs(r['runs'])}, {r['drops']} drops): "
                          + (", ".join(yes) or "none")
                          + (f" [not: {', '.join(miss)} at f = 0.5]" if miss else ""))
         out.append(f"{label.split()[0]}: " + "; ".join(parts))
@@ -263,7 +267,8 @@ def law_headline(v, label):
     not differ (Kruskal-Wallis p > 0.05); **size-dependent** where they differ (the sizes
     where it is extreme named); **not seen** where the pooled p > 0.05, with the pooled test's
     power at a preceded fraction of 0.5 (what its 'no' excludes); **weak** between.  A
-    candidate without a rank on any drop (hertz's pair count) is left out."""
+    candidate without a rank on any drop is left out; one the same at every state (hertz's
+    pair count: no power) is named untestable."""
     pool = next((r for r in v.values() if r["law"] == label and r["n"] == "all"), None)
     if pool is None:
         return None
@@ -284,11 +289,12 @@ def law_headline(v, label):
                          + ("-" if sp is None else f"{sp:.2g}") + ")")
         elif p <= 0.05:
             words.append(f"{k} weak ({at}: not at 0.05 / 4)")
+        elif t["power_0.5"] is None:
+            words.append(f"{k} untestable (the same at every state: no power)")
         else:
-            pw = t["power_0.5"]
-            words.append(f"{k} not seen ({at}" + ("" if pw is None else
-                         f"; power {pw:.2f} against a preceded fraction of 0.5") + ")")
-    return (f"{label.split()[0]} ({pool['drops']} drops, {pool['runs']} runs): "
+            words.append(f"{k} not seen ({at}; power {t['power_0.5']:.2f} against a preceded "
+                         "fraction of 0.5)")
+    return (f"{label.split()[0]} ({pool['drops']} drops, {_runs(pool['runs'])}): "
             + "; ".join(words))
 
 
