@@ -46,7 +46,14 @@ def test_scale_answer():
     charan = scale_answer({"pooled": pool, **v}).split(". ")[0]
     assert charan.index("N = 1024") < charan.index("all N pooled (2 runs, 20 drops)")
     assert "min_real (p 0.001*; sizes differ p 0.42)" in charan.split("pooled")[1]
-    from claims.precursors import scale_table
+    from claims.precursors import _scale_show, scale_table
+    # a record's rows come back in key order ('... N=1024' before '... N=64'): shown by N
+    back = dict(reversed(list(v.items())))
+    assert _scale_show(back, "charan mu=0.1 kt=1").index("N = 64") \
+        < _scale_show(back, "charan mu=0.1 kt=1").index("N = 1024")
+    assert scale_table(back).index("| charan mu=0.1 kt=1 | 64 |") \
+        < scale_table(back).index("| charan mu=0.1 kt=1 | 1024 |") \
+        < scale_table(back).index("| ishima kt=1 | 64 |")
     table = scale_table(v)
     assert "| charan mu=0.1 kt=1 | 1024 | 1 | 2 | 10 |" in table     # core-h 1024 / 512
     assert table.count("4/10, p 0.9, power 0.70") == 6

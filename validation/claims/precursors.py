@@ -189,9 +189,7 @@ def scale_run():
 def _scale_show(v, label):
     """Per N: the candidates extreme at the onsets at alpha = 0.05, and the drops."""
     parts = []
-    for key, r in v.items():
-        if r["law"] != label:
-            continue
+    for r in _law_sizes(v, label):
         yes = [f"{c} {t['statistic']:.2f} (p {t['pvalue']:.2g})"
                for c, t in r["candidates"].items()
                if t["statistic"] is not None and t["pvalue"] <= 0.05]
@@ -200,13 +198,20 @@ def _scale_show(v, label):
     return (f"{head}. Per N at p <= 0.05: " if head else "") + "; ".join(parts)
 
 
+def _law_sizes(v, label):
+    """A law's rows by increasing N, its pooled row (N = 'all') last (a record's rows are in
+    the order of their keys, '1024' before '64')."""
+    return sorted((r for r in v.values() if r["law"] == label),
+                  key=lambda r: (r["n"] == "all", 0 if r["n"] == "all" else r["n"]))
+
+
 def scale_table(v):
     """Mean onset rank, p, power at f = 0.5 per law, N and candidate; the old 1-step test;
     the compute of the runs (core-hours, summed over sittings)."""
     lines = ["| law | N | runs | core-h | drops | " + " | ".join(CANDIDATES)
              + " | old 1-step test: preceded, p, power f = 0.8 |",
              "|---|---|---|---|---|" + "---|" * (len(CANDIDATES) + 1)]
-    for r in v.values():
+    for r in (r for label in RANKED_LAWS.values() for r in _law_sizes(v, label)):
         lines.append(f"| {r['law']} | {r['n']} | {r['runs']} | {r['hours']:.2g} | {r['drops']} | "
                      + " | ".join(_cell(r["candidates"][c]) for c in CANDIDATES) + " | "
                      + _old(r, cell=True) + " |")
@@ -237,8 +242,7 @@ def scale_answer(v):
     out = []
     for label in RANKED_LAWS.values():
         parts = []
-        for r in sorted((r for r in v.values() if r["law"] == label),
-                        key=lambda r: (r["n"] == "all", 0 if r["n"] == "all" else r["n"])):
+        for r in _law_sizes(v, label):
             c = r["candidates"]
             yes = [f"{k} (p {c[k]['pvalue']:.2g}{'*' if c[k]['pvalue'] <= 0.05 / 4 else ''}"
                    + _sizes(c[k]) + ")" for k in CANDIDATES
@@ -255,9 +259,8 @@ def scale_answer(v):
 
 def _significant_sizes(v, label, cand):
     """The sizes (per-size rows of a law) where ``cand`` is extreme at alpha = 0.05."""
-    return [r["n"] for r in sorted((r for r in v.values() if r["law"] == label
-                                    and r["n"] != "all"), key=lambda r: r["n"])
-            if r["candidates"][cand]["pvalue"] is not None
+    return [r["n"] for r in _law_sizes(v, label) if r["n"] != "all"
+            and r["candidates"][cand]["pvalue"] is not None
             and r["candidates"][cand]["pvalue"] <= 0.05]
 
 
