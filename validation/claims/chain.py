@@ -343,10 +343,14 @@ def _at_breach(v, key="breach"):
     return (*_geo(ms), len(ms)) if ms else (None, None, 0)
 
 
+def _run_level(r):
+    """One run's stationary level of M: the geometric mean of its last half's range."""
+    return math.sqrt(r["late_min"] * r["late_max"])
+
+
 def _level(v, key):
-    """The stationary level of M (geometric mean of the last half's range) over the runs:
-    geometric mean and log10 error."""
-    return _geo([math.sqrt(r["late_min"] * r["late_max"]) for r in v[key]["runs"]])
+    """The stationary level of M over the runs: geometric mean and log10 error."""
+    return _geo([_run_level(r) for r in v[key]["runs"]])
 
 
 def _first_breach(v, key="breach"):
@@ -357,7 +361,7 @@ def _first_breach(v, key="breach"):
 
 def _per_seed_level(v, key):
     """Each run's stationary level (geometric mean of its last half's range)."""
-    return ", ".join(f"{math.sqrt(r['late_min'] * r['late_max']):.1e}" for r in v[key]["runs"])
+    return ", ".join(f"{_run_level(r):.1e}" for r in v[key]["runs"])
 
 
 def _at_0062(v):
