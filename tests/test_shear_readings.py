@@ -117,3 +117,62 @@ def test_a_run_that_fails_to_prepare_is_a_row_that_says_so(tmp_path):
     assert summary["kn"]["failed"] == {"0": got["failure"]} and "rate" not in summary["kn"]
     table = (tmp_path / "shear_protocol_tiny.md").read_text()
     assert "failed (seed 0: preparation: after " in table
+
+
+def _summary(**rates):
+    """A summary of readings: name -> (seed mean, standard error) of the phase rate."""
+    return {r: {"failed": {}, "rate": {"mean": m, "se": se, "n": 3}}
+            for r, (m, se) in rates.items()}
+
+
+def test_a_readings_effect_is_carried_to_the_papers_cell_with_its_error():
+    """The prediction is the paper-preset run's rate times the decide-scale ratio, its relative
+    errors added in quadrature (the three are independent runs); the damping reading is the
+    paper-preset run itself, with that run's error alone."""
+    sys.path.insert(0, str(VALIDATION))
+    import shear_protocol as sp
+    paper = {"rate": 0.30, "se": 0.01}
+    t = sp.transfer(_summary(damping=(0.40, 0.02), restitution=(0.44, 0.03)), paper)
+    assert t["damping"]["predicted"] == pytest.approx(0.30)
+    assert t["damping"]["se"] == pytest.approx(0.01)
+    rel = math.sqrt((0.01 / 0.30) ** 2 + (0.03 / 0.44) ** 2 + (0.02 / 0.40) ** 2)
+    assert t["restitution"]["predicted"] == pytest.approx(0.33)
+    assert t["restitution"]["se"] == pytest.approx(0.33 * rel)
+    assert t["restitution"]["distance"] == pytest.approx((0.33 - 0.323) / (0.33 * rel))
+    # without the damping reading, or a reading without an error, nothing is carried
+    assert sp.transfer(_summary(restitution=(0.44, 0.03)), paper) == {}
+    assert "kn" not in sp.transfer(_summary(damping=(0.4, 0.02), kn=(0.5, None)), paper)
+
+
+@pytest.mark.parametrize("rates, paper, pick, supported", [
+    # both near 0.323: not separated, the preset stays
+    ({"damping": (0.40, 0.02), "restitution": (0.44, 0.02)}, (0.30, 0.02), "damping",
+     ["damping", "restitution"]),
+    # the preset far below, the other reading on 0.323: it is chosen
+    ({"damping": (0.40, 0.004), "restitution": (0.646, 0.004)}, (0.20, 0.002), "restitution",
+     ["restitution"]),
+    # the preset excluded and two others on 0.323: undecided between them
+    ({"damping": (0.40, 0.004), "restitution": (0.646, 0.004), "kn": (0.646, 0.004)},
+     (0.20, 0.002), None, ["restitution", "kn"]),
+    # nothing near 0.323: the preset stays, and the text says the rate supports none
+    ({"damping": (0.40, 0.004), "restitution": (0.30, 0.004)}, (0.10, 0.002), "damping", []),
+])
+def test_the_reading_chosen_follows_the_stated_rule(rates, paper, pick, supported):
+    sys.path.insert(0, str(VALIDATION))
+    import shear_protocol as sp
+    got, ok, why = sp.chosen(_summary(**rates), "decide", {"rate": paper[0], "se": paper[1]})
+    assert got == pick and ok == supported
+    assert ("supports none" in why) == (not supported)
+    # below the decide scale nothing is judged
+    assert sp.chosen(_summary(**rates), "quick")[0] is None
+
+
+def test_the_paper_preset_rate_and_its_error_come_from_the_windows_along_the_run(tmp_path):
+    sys.path.insert(0, str(VALIDATION))
+    import shear_protocol as sp
+    w = [0.30, 0.28, 0.26, 0.32]
+    (tmp_path / "p.json").write_text(json.dumps(
+        {"summary": {"phases_per_step": 0.29}, "along_the_run": [{"per_step": x} for x in w]}))
+    got = sp.paper_preset_rate(tmp_path / "p.json")
+    assert got["rate"] == 0.29
+    assert got["se"] == pytest.approx(np.std(w, ddof=1) / 2.0)

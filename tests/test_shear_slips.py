@@ -235,6 +235,33 @@ def test_paper_comparison_script_reads_a_complete_and_a_partial_analysis(run_dir
         assert 0 <= sum(r["phases"]
                         for r in along) - doc["summary"]["n_phases"] <= max(len(along) - 1, 0)
         assert (tmp_path / "out" / "paper_dtau_p.png").stat().st_size > 1000
+        assert "## Is the analysed window a steady state?" in text
+        assert doc["steady"]["window_from"] == doc["summary"]["gamma0"]
+    # the steady start of the complete run (shear.npz) and of the partial one (its frames)
+    # agree: the same tau series
+    a, b = shear_paper.steady_window(run_dir), shear_paper.steady_window(part)
+    assert a[0] == b[0] and a[0] >= shear_paper.PAPER_GAMMA0
+
+
+def test_paper_comparison_says_whether_its_window_is_a_steady_state():
+    """tau rising to strain 0.06 and flat after it (noise 1 % of the rise): steady from
+    about 0.06 (a start a little before it passes: one low block of 20 is no trend); a window from 2.2 % includes the transient, one from 0.07 does not; a ramp
+    to the end is no steady state, and the page says to extend the run."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation"))
+    from shear_paper import steadiness, steadiness_text
+    rng = np.random.default_rng(3)
+    strain = np.linspace(0.0, 0.2, 20_000)
+    tau = 0.1 + 0.2 * np.minimum(strain, 0.06) / 0.06 + 0.002 * rng.standard_normal(strain.size)
+    early = steadiness(strain, tau, 0.022, 0.022)
+    assert early["start"] is not None and 0.04 <= early["start"] <= 0.09
+    assert not early["in_steady_state"] and early["window_p"] < 0.05
+    assert "include the transient" in steadiness_text(early, "RUN")
+    late = steadiness(strain, tau, 0.022, 0.09)
+    assert late["in_steady_state"] and "**Steady**" in steadiness_text(late, "RUN")
+    ramp = steadiness(strain, 0.1 + strain + 0.002 * rng.standard_normal(strain.size),
+                      0.022, 0.022)
+    assert ramp["start"] is None and not ramp["in_steady_state"]
+    assert "--resume --strain" in steadiness_text(ramp, "RUN")
 
 
 def test_paper_comparison_states_the_wall_time_of_a_resumed_run():

@@ -32,6 +32,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # run from anywhere without installing
 
 PAPER_PHASES, PAPER_STEPS = 42_000, 130_000
+PAPER_GAMMA0 = 0.022        # the start of the paper's stick-slip window (Sec. 3.1)
 BANDS = ((0.4, "weak"), (0.7, "moderate"), (np.inf, "strong"))
 # (figure, table, series, bins (lo of each bin), classes the paper states, its words)
 STATEMENTS = [
@@ -121,6 +122,68 @@ def window_table(strain, tau, gamma0, width=0.02):
     return rows
 
 
+def steadiness(strain, tau, gamma0, window_from):
+    """Whether tau is steady, by :func:`fricstab.analysis.stationarity.steady_start` on the
+    frames from the paper's ``gamma0``: the earliest start from which the rest passes the
+    Mann-Kendall test of 20 block means (0.05), the test there (or at the last candidate when
+    none passes), and whether the analysed window (from ``window_from``) lies in the steady
+    state (its statistics average a steady state only then)."""
+    from fricstab.analysis.stationarity import steady_start, trend_test
+    from fricstab.errors import ParameterError
+    win = strain >= min(gamma0, window_from)
+    try:
+        start, test = steady_start(strain[win], tau[win])
+        whole = trend_test(tau[strain >= window_from])
+    except ParameterError as exc:       # too few frames for 20 blocks
+        return {"start": None, "window_from": float(window_from), "in_steady_state": False,
+                "error": str(exc)}
+    return {"start": start, "p": test["p"], "drift_over_std": test["drift_over_std"],
+            "block_lag1": test["block_lag1"], "window_from": float(window_from),
+            "window_p": whole["p"], "window_drift_over_std": whole["drift_over_std"],
+            "window_block_lag1": whole["block_lag1"],
+            "in_steady_state": start is not None and window_from >= start - 1e-12}
+
+
+def steady_window(run):
+    """Where the steady-state statistics of a finished or running run start: the steady start
+    of its tau (``RUN/shear.npz``, or its frames so far) by :func:`steadiness`, or the paper's
+    2.2 % where no start passes or it lies before 2.2 %.  Returns (start, steadiness)."""
+    from fricstab.cli.shear_analyze import frames_of
+    from fricstab.io.frames import read_arrays
+    run = Path(run)
+    if (run / "shear.npz").exists():
+        with np.load(run / "shear.npz") as z:
+            strain, tau = z["strain"], z["tau"]
+    else:
+        parts = [read_arrays(f, ("strain", "tau"))[1] for f in frames_of(run, partial=True).files]
+        strain = np.concatenate([a["strain"] for a in parts])
+        tau = np.concatenate([a["tau"] for a in parts])
+    st = steadiness(strain, tau, PAPER_GAMMA0, PAPER_GAMMA0)
+    return max(PAPER_GAMMA0, st["start"] or PAPER_GAMMA0), st
+
+
+def steadiness_text(st, run):
+    """The sentence of :func:`steadiness` for the page."""
+    if "error" in st:
+        return f"Not tested: {st['error']}."
+    head = (f"Mann-Kendall test of 20 block means of tau over the analysed window (strain >= "
+            f"{100 * st['window_from']:.2f} %): p = {st['window_p']:.2g}, drift "
+            f"{st['window_drift_over_std']:+.2f} std over the window, lag-1 correlation of the "
+            f"block means {st['window_block_lag1']:.2f}. ")
+    if st["start"] is None:
+        return head + ("**Not a steady state**: no start from 2.2 % on passes the test (last "
+                       f"candidate p = {st['p']:.2g}); the statistics average a drifting state. "
+                       f"Extend the run: `fricstab shear run --out {run} --resume --strain S` "
+                       "with a larger S.")
+    if st["in_steady_state"]:
+        return head + (f"**Steady** from strain {100 * st['start']:.2f} % (p = {st['p']:.2g}); "
+                       "the window lies in it, so its statistics are steady-state ones.")
+    return head + (f"Steady from strain {100 * st['start']:.2f} % (p = {st['p']:.2g}), but the "
+                   "window starts before it: **its statistics include the transient**. For the "
+                   f"steady state alone: `fricstab shear analyze --out {run} --gamma0 "
+                   f"{st['start']:.5f} --force` and this script again.")
+
+
 def dtau_distribution(dtau, path):
     """Counts of |Delta tau_p| per decade for stick and slip phases, and its figure."""
     from fricstab.figures.common import finish, pyplot
@@ -191,7 +254,16 @@ def main(argv=None):
     ap.add_argument("--analysis", type=Path, default=None,
                     help="the analysis directory (default: RUN; a --partial DIR2)")
     ap.add_argument("--md", type=Path, default=HERE / "shear_paper.md")
+    ap.add_argument("--steady-start", action="store_true",
+                    help="print the strain from which the run's tau is steady (the paper's "
+                         "2.2 %% where none passes the test), for `fricstab shear analyze "
+                         "--gamma0`, and exit")
     ns = ap.parse_args(argv)
+    if ns.steady_start:
+        start, st = steady_window(ns.run)
+        print(f"{start:.6f}")
+        print(steadiness_text(st, ns.run), file=sys.stderr)
+        return 0
     from fricstab.analysis.shear import paper_tables
     from fricstab.figures.shear import fig_spearman_bins
     run, an_dir = ns.run, ns.analysis or ns.run
@@ -232,7 +304,8 @@ def main(argv=None):
                  f"(**partial**: the first {setting['frames']} frames)")
     rows = [
         ("frames analysed; strain reached", reach),
-        ("output steps in the window (strain >= 2.2 %)", f"{n_steps} (paper ~{PAPER_STEPS:,})"),
+        (f"output steps in the window (strain >= {100 * s['gamma0']:.2f} %)",
+         f"{n_steps} (paper ~{PAPER_STEPS:,} from 2.2 %)"),
         ("phases (stick + slip)", f"{s['n_phases']} ({s['n_stick']} + {s['n_slip']}); "
                                   f"paper ~{PAPER_PHASES:,}"),
         ("phases per output step", f"**{rate:.3f}** (paper {PAPER_PHASES / PAPER_STEPS:.3f})"),
@@ -251,6 +324,7 @@ def main(argv=None):
     quick = json.loads((HERE / "shear_quick.json").read_text())["phases"]
     knob = interval_table(strain, arrays["tau"], s["gamma0"], 7.2e-7)
     along = window_table(strain, arrays["tau"], s["gamma0"])
+    steady = steadiness(strain, arrays["tau"], PAPER_GAMMA0, s["gamma0"])
     verdicts = [(fig, words, *judge(t, table, series, bins, classes))
                 for fig, table, series, bins, classes, words in STATEMENTS]
     lines = [
@@ -261,6 +335,7 @@ def main(argv=None):
         "I = 4e-6, kappa = 1e4, mu_s = 0.7, mu_r = 0.01, frames 7.2e-7 of strain apart.", "",
         revisions(run, an_dir), "",
         "| quantity | this run |", "|---|---|", *(f"| {a} | {b} |" for a, b in rows), "",
+        "## Is the analysed window a steady state?", "", steadiness_text(steady, run), "",
         "## The frame interval: why the quick preset counts fewer phases per step", "",
         "The same trajectory with every k-th frame kept (one knob varied alone; k = 14 is the "
         f"quick preset's 1.0e-5). Quick preset (dgamma 1e-5, I 1e-4, kappa 1e3, 300 disks): "
@@ -295,7 +370,7 @@ def main(argv=None):
     ns.md.write_text("\n".join(lines) + "\n")
     stem.with_suffix(".json").write_text(json.dumps(
         {"complete": complete, "strain_reached": float(strain[-1]), "summary": s,
-         "frame_interval": knob, "along_the_run": along,
+         "frame_interval": knob, "along_the_run": along, "steady": steady,
          "verdicts": [{"figure": f, "paper": w, "ours": c, "verdict": v}
                       for f, w, c, v in verdicts], "dtau_p": dist, "wall": wall}, indent=1))
     print(f"wrote {ns.md}: {s['n_phases']} phases in {n_steps} steps ({rate:.3f} per step; "

@@ -579,11 +579,15 @@ def paper_run():
     run = os.environ.get("FRICSTAB_SHEAR_PAPER_RUN") or str(
         Path(tempfile.mkdtemp(prefix="claims_paper_")) / "run")
     resume = ["--resume"] if Path(run).is_dir() and any(Path(run).iterdir()) else []
-    for argv in (["shear", "run", "--preset", "paper", "--out", run, "--quiet", "--no-progress",
-                  *resume],
-                 ["shear", "analyze", "--out", run, "--force", "--no-progress"]):
-        if main(argv) != 0:
-            raise RuntimeError(f"fricstab {' '.join(argv)} failed")
+    argv = ["shear", "run", "--preset", "paper", "--out", run, "--quiet", "--no-progress",
+            *resume]
+    if main(argv) != 0:
+        raise RuntimeError(f"fricstab {' '.join(argv)} failed")
+    start, _ = shear_paper.steady_window(run)       # the statistics of the steady state only
+    argv = ["shear", "analyze", "--out", run, "--gamma0", repr(start), "--force",
+            "--no-progress"]
+    if main(argv) != 0:
+        raise RuntimeError(f"fricstab {' '.join(argv)} failed")
     if shear_paper.main([run]) != 0:
         raise RuntimeError("shear_paper.py failed")
     doc = json.loads((ROOT / "validation" / "shear_paper.json").read_text())
@@ -595,7 +599,9 @@ def paper_run():
                    "windows": [r["per_step"] for r in doc["along_the_run"]],
                    "interval": {str(r["every"]): r["per_step"] for r in doc["frame_interval"]},
                    "statements": [{"figure": x["figure"], "verdict": x["verdict"].split()[0]}
-                                  for x in doc["verdicts"]]},
+                                  for x in doc["verdicts"]],
+                   "steady": {k: doc["steady"].get(k) for k in
+                              ("start", "p", "window_from", "window_p", "in_steady_state")}},
                   seeds=(0,), outputs=("validation/shear_paper.md",
                                        "validation/shear_paper.json", *figs))
 
@@ -604,7 +610,8 @@ def paper_run():
 
 _QUICK = "python validation/shear_quick.py"
 _SWEEP = "python validation/shear_sweep.py"
-_PAPER = ("fricstab shear run --preset paper --out RUN; fricstab shear analyze --out RUN; "
+_PAPER = ("fricstab shear run --preset paper --out RUN; fricstab shear analyze --out RUN "
+          "--gamma0 $(python validation/shear_paper.py RUN --steady-start); "
           "python validation/shear_paper.py RUN")
 _SPEC = "spectra as `fricstab shear analyze --spectra soft|dense`; table: "
 _RATE_TOLERANCE = (f"chaotic cell: bit-identical on one machine; elsewhere each rate within "
@@ -613,6 +620,16 @@ _RATE_TOLERANCE = (f"chaotic cell: bit-identical on one machine; elsewhere each 
 _FISHER_TOLERANCE = (f"chaotic cell: each Spearman cell (n >= 10) within {Z_CHECK:g} combined "
                      "standard errors of Fisher's z, se = sqrt(1.06 / (n - 3)) (a new trajectory "
                      "is a new sample); the verdict words may then change")
+
+
+def _steady_text(st):
+    """The steadiness of the paper-preset run's window (``shear_paper.steadiness``)."""
+    if not st:
+        return "steadiness not tested"
+    where = f"window from {100 * st['window_from']:.2f} %"
+    if st["in_steady_state"]:
+        return f"{where}: steady (from {100 * st['start']:.2f} %, p = {st['p']:.2g})"
+    return f"{where}: not a steady state (window p = {st.get('window_p') or 0:.2g})"
 
 
 def _statements_show(v):
@@ -947,7 +964,7 @@ CLAIMS = [
                           f"output steps: {v['rate']:.3f} per step; windows of 2 % strain "
                           + " / ".join(f"{r:.3f}" for r in v["windows"])
                           + f"; long phases {v['fraction_long']:.2f}; largest drop "
-                            f"{v['largest_drop']:.4f}"),
+                            f"{v['largest_drop']:.4f}; " + _steady_text(v.get("steady"))),
           tolerance=_RATE_TOLERANCE,
           check=_factor_check(["rate"], SEED_FACTOR),
           paper="~42,000 phases in ~130,000 output steps (0.323 per step)",
@@ -976,3 +993,7 @@ CLAIMS = [
               + "; agree if no statement differs"),
           job="shear.paper"),
 ]
+
+from .shear_protocol import CLAIMS as _PROTOCOL_CLAIMS  # noqa: E402
+
+CLAIMS += _PROTOCOL_CLAIMS
