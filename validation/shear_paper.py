@@ -32,7 +32,6 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # run from anywhere without installing
 
 PAPER_PHASES, PAPER_STEPS = 42_000, 130_000
-PAPER_GAMMA0 = 0.022        # the start of the paper's stick-slip window (Sec. 3.1)
 BANDS = ((0.4, "weak"), (0.7, "moderate"), (np.inf, "strong"))
 # (figure, table, series, bins (lo of each bin), classes the paper states, its words)
 STATEMENTS = [
@@ -158,8 +157,9 @@ def steady_window(run):
         parts = [read_arrays(f, ("strain", "tau"))[1] for f in frames_of(run, partial=True).files]
         strain = np.concatenate([a["strain"] for a in parts])
         tau = np.concatenate([a["tau"] for a in parts])
-    st = steadiness(strain, tau, PAPER_GAMMA0, PAPER_GAMMA0)
-    return max(PAPER_GAMMA0, st["start"] or PAPER_GAMMA0), st
+    gamma0 = 0.022          # the start of the paper's stick-slip window (Sec. 3.1)
+    st = steadiness(strain, tau, gamma0, gamma0)
+    return max(gamma0, st["start"] or gamma0), st
 
 
 def steadiness_text(st, run):
@@ -324,7 +324,7 @@ def main(argv=None):
     quick = json.loads((HERE / "shear_quick.json").read_text())["phases"]
     knob = interval_table(strain, arrays["tau"], s["gamma0"], 7.2e-7)
     along = window_table(strain, arrays["tau"], s["gamma0"])
-    steady = steadiness(strain, arrays["tau"], PAPER_GAMMA0, s["gamma0"])
+    steady = steadiness(strain, arrays["tau"], 0.022, s["gamma0"])   # the paper's 2.2 %
     verdicts = [(fig, words, *judge(t, table, series, bins, classes))
                 for fig, table, series, bins, classes, words in STATEMENTS]
     lines = [
