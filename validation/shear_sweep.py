@@ -4,8 +4,9 @@ For mu_s in {0.1, 0.3, 0.5, 0.7}: one quick-preset run each (members of
 :func:`fricstab.io.ensemble.run_ensemble`, resumable: a finished member is kept),
 then :func:`fricstab.analysis.shear.analyze` on its frames.  Writes
 ``validation/shear_sweep.md`` (phases per output step against the paper's
-18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 steps, and the
-long-phase Spearman coefficients of dtau_p with mg10 per bin).  Slow (about
+18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 steps, the paper's Sec. 4
+statements each judged per mu_s (:mod:`shear_sec4`), and the Spearman tables of
+every panel of Fig. 13).  Slow (about
 four quick runs plus their analyses): ``python validation/shear_sweep.py [DIR]``.
 The claims ``shear.sweep_*`` of ``validation/reproduce.py`` run :func:`sweep`
 (in-process, ``scheduler="inline"``) and :func:`report`, which writes the
@@ -18,7 +19,21 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))  # run from anywhere without installing
+sys.path.insert(0, str(HERE))
+
+import shear_sec4  # noqa: E402
 PAPER = {0.1: 18_000, 0.3: 46_000, 0.5: 52_000, 0.7: 42_000}
+#: Fig. 13's panels: (title, table, series) of :func:`fricstab.analysis.shear.analyze`
+PANELS = (("(a) Delta tau - g_t10% D2min, every output step", "step_dtau", "g10"),
+          ("(b) Delta tau_p - mg_t10% D2min, all phases", "phase_all", "mg10"),
+          ("(c) Delta tau_p - mg_t10% D2min, long phases", "phase_long", "mg10"),
+          ("(d) Delta tau_p - mg_t10% D2min, short phases", "phase_short", "mg10"),
+          ("(e) Delta tau_p - mg D2min, long phases", "phase_long", "mg"),
+          ("(f) Delta tau_p - sg_t10% D2min, all phases", "phase_all", "sg10"),
+          ("(g) Delta tau_p - sg_t10% D2min, long phases", "phase_long", "sg10"),
+          ("(h) Delta tau_p - sg_t10% D2min, short phases", "phase_short", "sg10"),
+          ("(i) Delta tau_p - sg D2min, long phases", "phase_long", "sg"),
+          ("(j) Delta tau_p - t_p, long phases", "phase_tp", "long"))
 #: the Spearman series :func:`report` returns (Figs. 13 a, b, c, f, g)
 USED = {"step_dtau": ("g10",), "phase_all": ("mg10", "sg10"), "phase_long": ("mg10", "sg10")}
 
@@ -62,6 +77,11 @@ def main(out=None):
     return res
 
 
+def tables_of(res):
+    """{mu_s: the Spearman tables of its member's analysis}."""
+    return {m: json.loads(str(res[f"mu{m:g}"]["tables"]))["tables"] for m in PAPER}
+
+
 def report(res, md=HERE / "shear_sweep.md"):
     """Write ``md`` and the Fig. 13 c, g figures from the members; returns the numbers:
     per mu_s the phase count, steps and rate, and the Spearman tables (a), (c), (g)."""
@@ -79,15 +99,17 @@ def report(res, md=HERE / "shear_sweep.md"):
         r = res[f"mu{m:g}"]
         lines.append(f"| {m:g} | {int(r['n_phases'])} | {steps[m]} | "
                      f"{float(r['phases_per_step']):.3f} | {PAPER[m] / 130_000:.3f} |")
-    lines += ["", "Spearman rho (p, n) of Delta tau_p per bin (Lee & Hurley Figs. 13 b, c, f, g "
-              "and a: rows are mu_s); struck through: p > 0.05, which the paper omits.", ""]
-    tables = {m: json.loads(str(res[f"mu{m:g}"]["tables"]))["tables"] for m in PAPER}
-    for title, section, series in (
-            ("(a) Delta tau - g_t10% D2min, every output step", "step_dtau", "g10"),
-            ("(b) Delta tau_p - mg_t10% D2min, all phases", "phase_all", "mg10"),
-            ("(c) Delta tau_p - mg_t10% D2min, long phases", "phase_long", "mg10"),
-            ("(f) Delta tau_p - sg_t10% D2min, all phases", "phase_all", "sg10"),
-            ("(g) Delta tau_p - sg_t10% D2min, long phases", "phase_long", "sg10")):
+    tables = tables_of(res)
+    judged = shear_sec4.judge_sweep(tables)
+    lines += ["", "## The paper's statements on Figs. 12-13 (Sec. 4)", "",
+              "Each statement judged per mu_s by the rule of `validation/shear_sec4.py` "
+              "(cells with p <= 0.05 and n >= 10; bands |rho| < 0.4 weak, 0.4-0.7 moderate, "
+              ">= 0.7 strong; 'stronger' by Fisher's z of |rho|, significantly weaker at "
+              "d < -2); overall: agrees where it agrees at every mu_s.", "",
+              shear_sec4.markdown(judged), "",
+              "Spearman rho (p, n) per bin, Fig. 13 a-j (rows are mu_s); struck through: "
+              "p > 0.05, which the paper omits.", ""]
+    for title, section, series in PANELS:
         rows = {f"mu_s = {m:g}": tables[m][section][series] for m in PAPER}
         lines.append(tables_markdown({title: rows}, title).split("\n", 2)[2])
     from fricstab.figures import shear as sf

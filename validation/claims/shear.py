@@ -275,6 +275,9 @@ def quick_and_sweep():
     given = {0.7: shear_sweep.as_member(q["record"], q["analysis"])}
     res = shear_sweep.sweep(tmp, scheduler="inline", progress=False, given=given)
     sw = shear_sweep.report(res)
+    sec4 = [{"id": x["id"], "panels": x["panels"], "paper": x["paper"], "verdict": x["verdict"],
+             "cells": {f"{m:g}": c["verdict"] for m, c in x["cells"].items()}}
+            for x in shear_sweep.shear_sec4.judge_sweep(shear_sweep.tables_of(res))]
     shutil.rmtree(tmp, ignore_errors=True)
     rec, s, c = q["record"], q["analysis"]["summary"], q["spectra"]
     ph, sv = rec["phases"], rec["servo"]
@@ -303,7 +306,7 @@ def quick_and_sweep():
     outs = ("validation/shear_quick.md", "validation/shear_quick.png",
             "validation/shear_quick.json", "validation/shear_sweep.md",
             "validation/shear_sweep_fig13c.png", "validation/shear_sweep_fig13g.png")
-    return Result({"quick": quick, "sweep": sweep}, seeds=(0,), outputs=outs)
+    return Result({"quick": quick, "sweep": sweep, "sec4": sec4}, seeds=(0,), outputs=outs)
 
 
 def _ratio_verdict(ours, paper):
@@ -632,6 +635,9 @@ def _steady_text(st):
     return f"{where}: not a steady state (window p = {st.get('window_p') or 0:.2g})"
 
 
+_SHORT = {"agrees": "a", "disagrees": "d", "undecided": "u", "not comparable": "-"}
+
+
 def _statements_show(v):
     """Per statement: the figure, the paper's words (after the metrics), our verdict."""
     def words(s):
@@ -798,6 +804,35 @@ CLAIMS = [
           paper="Sec. 4: the trends of Figs. 9a and 10a hold 'for all mu_s' (Fig. 13a, c, g): "
                 "long phases strong for Delta tau_p < -1e-2, mostly moderate in (-1e-2, 0)",
           verdict=_sweep_statements_verdict, job="shear.quick"),
+    Claim("shear.sweep_sec4", "shear",
+          "Sec. 4's eight statements on Fig. 13 (panels a-j), each judged per mu_s = 0.1 / 0.3 "
+          "/ 0.5 / 0.7 (quick preset, seed 0 each; rules: validation/shear_sec4.py)", "minutes",
+          _SWEEP, quick_and_sweep,
+          show=lambda v: "; ".join(f"{x['id']} " + "/".join(
+              _SHORT[c] for _, c in sorted(x["cells"].items(), key=lambda kv: float(kv[0])))
+              for x in v["sec4"]) + " (per mu_s: a agrees, d disagrees, u undecided, - not "
+                                    "comparable)",
+          tolerance=_FISHER_TOLERANCE,
+          check=lambda a, b: _fisher_check(a["sweep"], b["sweep"]),
+          paper="Sec. 4, 'for all mu_s': 4.1 all phases stronger than per step; 4.2 long "
+                "phases stronger than all; 4.3 long strong below -1e-2; 4.4 long mostly "
+                "moderate in (-1e-2, 0); 4.5 short never strong; 4.6 t10 metrics stronger than "
+                "plain; 4.7 sg_t10% >= mg_t10%; 4.8 t_p moderate at mu_s >= 0.5 only",
+          verdict=lambda v: Verdict(
+              "agrees" if all(x["verdict"] == "agrees" for x in v["sec4"]) else
+              "disagrees" if any(x["verdict"] == "disagrees" for x in v["sec4"]) else
+              "undecided",
+              ", ".join(f"{sum(x['verdict'] == w for x in v['sec4'])} {w}" for w in
+                        ("agrees", "disagrees", "undecided", "not comparable"))
+              + " of the statements; a statement agrees where it agrees at every mu_s"),
+          job="shear.quick",
+          texts={"table": lambda v: "\n".join(
+              ["| # | Fig. | paper | " + " | ".join(
+                  f"mu_s = {m}" for m in sorted(v["sec4"][0]["cells"], key=float))
+               + " | verdict |", "|---|---|---|---|---|---|---|---|"]
+              + [f"| {x['id']} | {x['panels']} | {x['paper']} | " + " | ".join(
+                  c for _, c in sorted(x["cells"].items(), key=lambda kv: float(kv[0])))
+                 + f" | **{x['verdict']}** |" for x in v["sec4"]])}),
     # --- hours: the whole spectrum
     Claim("shear.dense_spectra", "shear",
           "the Jacobian before every slip of the quick run, whole spectrum (dense; beyond the "
