@@ -237,10 +237,23 @@ def test_paper_comparison_script_reads_a_complete_and_a_partial_analysis(run_dir
         assert (tmp_path / "out" / "paper_dtau_p.png").stat().st_size > 1000
         assert "## Is the analysed window a steady state?" in text
         assert doc["steady"]["window_from"] == doc["summary"]["gamma0"]
-    # the steady start of the complete run (shear.npz) and of the partial one (its frames)
-    # agree: the same tau series
-    a, b = shear_paper.steady_window(run_dir), shear_paper.steady_window(part)
-    assert a[0] == b[0] and a[0] >= 0.022
+
+
+def test_paper_script_prints_the_steady_start(run_dir, tmp_path, capsys):
+    """``shear_paper.py RUN --steady-start``: the strain of steady_window on the run's tau from
+    2.2 % (the small run ends before it: 2.2 % and the reason), the same from the frames of a
+    run still going as from its shear.npz."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "validation"))
+    import shear_paper
+    from fricstab.analysis.stationarity import steady_window
+    with np.load(run_dir / "shear.npz") as z:
+        want, _ = steady_window(z["strain"], z["tau"], 0.022)
+    assert shear_paper.main([str(run_dir), "--steady-start"]) == 0
+    out, err = capsys.readouterr()
+    assert float(out) == pytest.approx(want, abs=1e-6) and err
+    part = tmp_path / "run"
+    shutil.copytree(run_dir / "frames", part / "frames")
+    assert shear_paper.steady_window(part)[0] == want
 
 
 def test_paper_comparison_says_whether_its_window_is_a_steady_state():

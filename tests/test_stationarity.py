@@ -4,7 +4,7 @@ steady start, and its errors on bad input."""
 import numpy as np
 import pytest
 
-from fricstab.analysis.stationarity import steady_start, trend_test
+from fricstab.analysis.stationarity import steady_start, steady_window, trend_test
 from fricstab.errors import ParameterError
 
 
@@ -87,3 +87,26 @@ def test_constant_series_is_steady():
 def test_steady_start_rejects_a_decreasing_axis():
     with pytest.raises(ParameterError, match="must not decrease"):
         steady_start(np.linspace(1, 0, 100), np.ones(100))
+
+
+def test_steady_window_starts_at_the_steady_start_or_at_gamma0():
+    """The rise of test_steady_start_after_a_transient: the window starts where steady_start
+    (run on the frames from gamma0) accepts, never before gamma0; a drift to the end gives
+    gamma0 and says so; too few frames after gamma0 give gamma0 with the test's reason."""
+    rng = np.random.default_rng(2)
+    n = 4000
+    t = np.linspace(0.0, 0.1, n)
+    x = _ar1(rng, n)[0] + 3.0 * np.clip(t / 0.04, 0, 1)
+    start, info = steady_window(t, x, 0.01)
+    want, _ = steady_start(t[t >= 0.01], x[t >= 0.01])
+    assert info["steady"] and start == want == info["start"] and start >= 0.01
+    # gamma0 past the transient: the first candidate passes, the window starts at gamma0
+    start, info = steady_window(t, x, 0.06)
+    assert info["steady"] and start == pytest.approx(0.06, abs=1e-4)
+    drift = 5 * t / 0.1 + 0.01 * rng.normal(size=n)
+    start, info = steady_window(t, drift, 0.02)
+    assert start == 0.02 and not info["steady"] and "extend the run" in info["reason"]
+    start, info = steady_window(t, x, 0.0999)
+    assert start == 0.0999 and not info["steady"] and "values" in info["reason"]
+    with pytest.raises(ParameterError, match="one length"):
+        steady_window(t, x[:-1], 0.0)

@@ -122,31 +122,30 @@ def window_table(strain, tau, gamma0, width=0.02):
 
 
 def steadiness(strain, tau, gamma0, window_from):
-    """Whether tau is steady, by :func:`fricstab.analysis.stationarity.steady_start` on the
-    frames from the paper's ``gamma0``: the earliest start from which the rest passes the
-    Mann-Kendall test of 20 block means (0.05), the test there (or at the last candidate when
-    none passes), and whether the analysed window (from ``window_from``) lies in the steady
-    state (its statistics average a steady state only then)."""
-    from fricstab.analysis.stationarity import steady_start, trend_test
+    """Whether the analysed window (from ``window_from``) is a steady state: the steady start
+    of tau from the paper's ``gamma0`` (or the window's start, if earlier) by
+    :func:`fricstab.analysis.stationarity.steady_window` (what ``--steady-start`` prints),
+    and the Mann-Kendall test of the window itself."""
+    from fricstab.analysis.stationarity import steady_window, trend_test
     from fricstab.errors import ParameterError
-    win = strain >= min(gamma0, window_from)
+    _, info = steady_window(strain, tau, min(gamma0, window_from))
+    out = {"start": info["start"], "p": info.get("p"), "window_from": float(window_from),
+           "in_steady_state": info["steady"] and window_from >= info["start"] - 1e-12}
+    if "p" not in info:                 # too few frames for the test
+        return {**out, "error": info["reason"]}
     try:
-        start, test = steady_start(strain[win], tau[win])
         whole = trend_test(tau[strain >= window_from])
-    except ParameterError as exc:       # too few frames for 20 blocks
-        return {"start": None, "window_from": float(window_from), "in_steady_state": False,
-                "error": str(exc)}
-    return {"start": start, "p": test["p"], "drift_over_std": test["drift_over_std"],
-            "block_lag1": test["block_lag1"], "window_from": float(window_from),
-            "window_p": whole["p"], "window_drift_over_std": whole["drift_over_std"],
-            "window_block_lag1": whole["block_lag1"],
-            "in_steady_state": start is not None and window_from >= start - 1e-12}
+    except ParameterError as exc:
+        return {**out, "error": str(exc)}
+    return {**out, "window_p": whole["p"], "window_drift_over_std": whole["drift_over_std"],
+            "window_block_lag1": whole["block_lag1"]}
 
 
 def steady_window(run):
-    """Where the steady-state statistics of a finished or running run start: the steady start
-    of its tau (``RUN/shear.npz``, or its frames so far) by :func:`steadiness`, or the paper's
-    2.2 % where no start passes or it lies before 2.2 %.  Returns (start, steadiness)."""
+    """The steady start of a run's tau from the paper's 2.2 %
+    (:func:`fricstab.analysis.stationarity.steady_window`; 2.2 % where none passes), from
+    ``RUN/shear.npz`` or, for a run still going, its frames so far: (start, info)."""
+    from fricstab.analysis.stationarity import steady_window as window
     from fricstab.cli.shear_analyze import frames_of
     from fricstab.io.frames import read_arrays
     run = Path(run)
@@ -157,9 +156,7 @@ def steady_window(run):
         parts = [read_arrays(f, ("strain", "tau"))[1] for f in frames_of(run, partial=True).files]
         strain = np.concatenate([a["strain"] for a in parts])
         tau = np.concatenate([a["tau"] for a in parts])
-    gamma0 = 0.022          # the start of the paper's stick-slip window (Sec. 3.1)
-    st = steadiness(strain, tau, gamma0, gamma0)
-    return max(gamma0, st["start"] or gamma0), st
+    return window(strain, tau, 0.022)       # the paper's stick-slip window starts at 2.2 %
 
 
 def steadiness_text(st, run):
@@ -181,7 +178,8 @@ def steadiness_text(st, run):
     return head + (f"Steady from strain {100 * st['start']:.2f} % (p = {st['p']:.2g}), but the "
                    "window starts before it: **its statistics include the transient**. For the "
                    f"steady state alone: `fricstab shear analyze --out {run} --gamma0 "
-                   f"{st['start']:.5f} --force` and this script again.")
+                   f"$(python validation/shear_paper.py {run} --steady-start) --force` and "
+                   "this script again.")
 
 
 def dtau_distribution(dtau, path):
@@ -255,14 +253,15 @@ def main(argv=None):
                     help="the analysis directory (default: RUN; a --partial DIR2)")
     ap.add_argument("--md", type=Path, default=HERE / "shear_paper.md")
     ap.add_argument("--steady-start", action="store_true",
-                    help="print the strain from which the run's tau is steady (the paper's "
-                         "2.2 %% where none passes the test), for `fricstab shear analyze "
-                         "--gamma0`, and exit")
+                    help="print the strain from which the run's tau is steady (2.2 %% where no "
+                         "start passes the trend test), for `fricstab shear analyze --gamma0`, "
+                         "and exit")
     ns = ap.parse_args(argv)
     if ns.steady_start:
-        start, st = steady_window(ns.run)
+        start, info = steady_window(ns.run)
         print(f"{start:.6f}")
-        print(steadiness_text(st, ns.run), file=sys.stderr)
+        print("tau steady from there (p = {:.2g})".format(info["p"]) if info["steady"] else
+              f"not steady: {info['reason']}; the paper's 2.2 %", file=sys.stderr)
         return 0
     from fricstab.analysis.shear import paper_tables
     from fricstab.figures.shear import fig_spearman_bins

@@ -104,3 +104,32 @@ def steady_start(t, x, starts=None, n_blocks=20, alpha=0.05, min_fraction=0.3):
         raise ParameterError(f"no candidate start leaves {min_fraction:.0%} of the "
                              f"{t.size} values and {2 * n_blocks} values for the blocks")
     return None, test
+
+
+def steady_window(strain, tau, gamma0, **kw):
+    """Where the steady-state statistics of a sheared run start: the earliest strain at or
+    after ``gamma0`` from which ``tau`` is steady (:func:`steady_start` on the frames from
+    ``gamma0``, keywords passed on), else ``gamma0`` itself.
+
+    Returns ``(start, info)``: ``info["steady"]`` is False where no candidate start passes
+    or the window is too short for the test (``info["reason"]`` says which); otherwise
+    ``info`` holds the accepted start and its test's ``p``, ``drift_over_std`` and
+    ``block_lag1``.  The caveat of :func:`steady_start` applies: the accepted start is a choice
+    after the fact.
+    """
+    strain, tau = np.asarray(strain, float), np.asarray(tau, float)
+    if strain.shape != tau.shape or strain.ndim != 1:
+        raise ParameterError(f"strain and tau must be one-dimensional and of one length (got "
+                             f"{strain.shape} and {tau.shape})")
+    gamma0 = float(gamma0)
+    win = strain >= gamma0
+    try:
+        start, test = steady_start(strain[win], tau[win], **kw)
+    except ParameterError as exc:
+        return gamma0, {"steady": False, "start": None, "reason": str(exc)}
+    keep = {k: test[k] for k in ("p", "drift_over_std", "block_lag1")}
+    if start is None:
+        return gamma0, {"steady": False, "start": None, **keep,
+                        "reason": f"no start from strain {gamma0:g} on passes the trend test "
+                                  f"(last candidate p = {test['p']:.2g}): extend the run"}
+    return max(gamma0, start), {"steady": True, "start": start, **keep}
