@@ -236,6 +236,8 @@ def test_paper_comparison_script_reads_a_complete_and_a_partial_analysis(run_dir
                         for r in along) - doc["summary"]["n_phases"] <= max(len(along) - 1, 0)
         assert (tmp_path / "out" / "paper_dtau_p.png").stat().st_size > 1000
         assert "## Is the analysed window a steady state?" in text
+        assert "## The paper's comparisons on Figs. 9b-10b (Sec. 3.3)" in text
+        assert [x["id"] for x in doc["comparisons"]] == ["3.1", "3.2", "3.3", "3.4"]
         assert doc["steady"]["window_from"] == doc["summary"]["gamma0"]
 
 

@@ -326,6 +326,9 @@ def main(argv=None):
     steady = steadiness(strain, arrays["tau"], 0.022, s["gamma0"])   # the paper's 2.2 %
     verdicts = [(fig, words, *judge(t, table, series, bins, classes))
                 for fig, table, series, bins, classes, words in STATEMENTS]
+    sys.path.insert(0, str(HERE))
+    import shear_sec33
+    compared = shear_sec33.judge(t)
     lines = [
         "# Plane shear at the paper's scale (Lee & Hurley Secs. 3.2-3.3)", "",
         f"Commands: `fricstab shear run --preset paper --out RUN`, `fricstab shear analyze "
@@ -354,6 +357,11 @@ def main(argv=None):
         "cells with p > 0.05 are not judged, as the paper omits them.", "",
         "| Fig. | paper | ours (bin: rho, band, n) | verdict |", "|---|---|---|---|",
         *(f"| {f} | {w} | {c} | {v} |" for f, w, c, v in verdicts), "",
+        "## The paper's comparisons on Figs. 9b-10b (Sec. 3.3)", "",
+        "Rules of `validation/shear_sec33.py`: cells with p <= 0.05 and n >= 10; a pair holds "
+        "where |rho_1| >= |rho_2|, is significantly weaker at d < -2 (Fisher's z of |rho|); "
+        "'stronger' agrees where more than half of the pairs hold.", "",
+        shear_sec33.markdown(compared), "",
         f"Figures: Fig. 2 ![]({figs.get('fig2', '')}), Fig. 8 around the largest slip "
         f"![]({figs.get('fig8', '')}), Figs. 9-10 ![]({figs['fig9a']}) ![]({figs['fig9b']}) "
         f"![]({figs['fig10a']}) ![]({figs['fig10b']}) ![]({figs['fig10c']}), the Delta tau_p "
@@ -371,7 +379,8 @@ def main(argv=None):
         {"complete": complete, "strain_reached": float(strain[-1]), "summary": s,
          "frame_interval": knob, "along_the_run": along, "steady": steady,
          "verdicts": [{"figure": f, "paper": w, "ours": c, "verdict": v}
-                      for f, w, c, v in verdicts], "dtau_p": dist, "wall": wall}, indent=1))
+                      for f, w, c, v in verdicts], "comparisons": compared,
+         "dtau_p": dist, "wall": wall}, indent=1))
     print(f"wrote {ns.md}: {s['n_phases']} phases in {n_steps} steps ({rate:.3f} per step; "
           f"paper {PAPER_PHASES / PAPER_STEPS:.3f}); strain {strain[-1]:.4f}"
           f"{'' if complete else ' (partial)'}")

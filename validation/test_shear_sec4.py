@@ -99,3 +99,19 @@ def test_judge_sweep_needs_every_mu_s():
     assert next(x for x in judged if x["id"] == "4.3")["verdict"] == "agrees"
     md = s4.markdown(judged)
     assert "| mu_s = 0.1 | mu_s = 0.7 |" in md and md.count("\n| 4.") == len(s4.STATEMENTS)
+
+
+def test_sec33_short_phases_significantly_weaker():
+    """3.4: short-phase cells far below the long ones (d << -2 at n = 200) agree; equal cells
+    disagree (not weaker at all); weaker within noise (n = 12) is undecided."""
+    import shear_sec33 as s33
+    pairs = [(("phase_short", s), ("phase_long", s), lo)
+             for s in s33.FOUR for lo in s33.SLIPS_33]
+    low = {f"phase_short.{s}": {lo: -0.1 for lo in s33.SLIPS_33} for s in s33.FOUR}
+    assert s33.significantly_weaker(tables(rho=-0.6, **low), pairs)[0] == "agrees"
+    assert s33.significantly_weaker(tables(rho=-0.6), pairs)[0] == "disagrees"
+    near = {f"phase_short.{s}": {lo: -0.5 for lo in s33.SLIPS_33} for s in s33.FOUR}
+    assert s33.significantly_weaker(tables(rho=-0.6, n=12, **near), pairs)[0] == "undecided"
+    judged = s33.judge(tables(rho=-0.6, **low))
+    assert [x["id"] for x in judged] == ["3.1", "3.2", "3.3", "3.4"]
+    assert judged[3]["verdict"] == "agrees" and "| 3.4 |" in s33.markdown(judged)

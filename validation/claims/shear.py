@@ -593,6 +593,14 @@ def paper_run():
         raise RuntimeError(f"fricstab {' '.join(argv)} failed")
     if shear_paper.main([run]) != 0:
         raise RuntimeError("shear_paper.py failed")
+    import shutil
+    import shear_event
+    import shear_long_phases
+    event = shear_event.report(run)                 # Figs. 3-8: the largest slip
+    long_ = shear_long_phases.report(run)           # Fig. 11, sg_t10% vs mg_t10%
+    for name, dest in (("event.md", "shear_paper_event.md"), ("event.png", "shear_paper_event.png"),
+                       ("long_phases.md", "shear_paper_long_phases.md")):
+        shutil.copyfile(Path(run) / name, ROOT / "validation" / dest)
     doc = json.loads((ROOT / "validation" / "shear_paper.json").read_text())
     s = doc["summary"]
     figs = sorted(_rel(p) for p in (ROOT / "validation").glob("shear_paper_*.png"))
@@ -601,12 +609,22 @@ def paper_run():
                    "fraction_long": s["fraction_long"], "largest_drop": s["largest_drop"],
                    "windows": [r["per_step"] for r in doc["along_the_run"]],
                    "interval": {str(r["every"]): r["per_step"] for r in doc["frame_interval"]},
-                   "statements": [{"figure": x["figure"], "verdict": x["verdict"].split()[0]}
+                   "statements": [{"figure": x["figure"],
+                                   "verdict": x["verdict"].split(" (")[0]}
                                   for x in doc["verdicts"]],
                    "steady": {k: doc["steady"].get(k) for k in
-                              ("start", "p", "window_from", "window_p", "in_steady_state")}},
+                              ("start", "p", "window_from", "window_p", "in_steady_state")},
+                   "comparisons": [{k: x[k] for k in ("id", "figure", "verdict")}
+                                   for x in doc["comparisons"]],
+                   "event": [{k: x[k] for k in ("id", "figure", "verdict")}
+                             for x in event["statements"]],
+                   "fig11": long_["fig11_verdict"].split(":")[0].split(" (")[0],
+                   "sg_vs_mg": long_["sg_verdict"].split(":")[0].split(" (")[0],
+                   "long_detail": [long_["fig11_verdict"], long_["sg_verdict"]]},
                   seeds=(0,), outputs=("validation/shear_paper.md",
-                                       "validation/shear_paper.json", *figs))
+                                       "validation/shear_paper.json", *figs,
+                                       "validation/shear_paper_event.md",
+                                       "validation/shear_paper_long_phases.md"))
 
 
 # ------------------------------------------------------------ the claims
@@ -623,6 +641,17 @@ _RATE_TOLERANCE = (f"chaotic cell: bit-identical on one machine; elsewhere each 
 _FISHER_TOLERANCE = (f"chaotic cell: each Spearman cell (n >= 10) within {Z_CHECK:g} combined "
                      "standard errors of Fisher's z, se = sqrt(1.06 / (n - 3)) (a new trajectory "
                      "is a new sample); the verdict words may then change")
+
+
+def _words_verdict(words):
+    """Agrees where every statement agrees, disagrees where one disagrees (or 'differs'),
+    else undecided or not comparable; the counts."""
+    w = [("disagrees" if x == "differs" else x) for x in words]
+    label = ("agrees" if all(x == "agrees" for x in w) else "disagrees" if "disagrees" in w
+             else "undecided" if "undecided" in w else "not comparable")
+    return Verdict(label, ", ".join(f"{w.count(k)} {k}" for k in
+                                    ("agrees", "disagrees", "undecided", "not comparable")
+                                    if w.count(k)) + "; agree if every statement agrees")
 
 
 def _steady_text(st):
@@ -1026,6 +1055,41 @@ CLAIMS = [
               ", ".join(f"{sum(s['verdict'] == w for s in v['statements'])} {w}"
                         for w in ("agrees", "partly", "differs"))
               + "; agree if no statement differs"),
+          job="shear.paper"),
+    Claim("shear.paper_comparisons", "shear",
+          "Sec. 3.3's four comparisons on Figs. 9b-10b (long vs all phases, t10 vs plain "
+          "metrics, sg_t10% vs mg_t10%, short vs long phases) on the paper-preset run", "hours",
+          _PAPER, paper_run,
+          show=lambda v: "; ".join(f"{x['id']} ({x['figure']}) {x['verdict']}"
+                                   for x in v["comparisons"]),
+          tolerance="chaotic: the verdict words may change with the trajectory",
+          check=lambda a, b: (True, "statements are judged, not compared"),
+          paper="Sec. 3.3: long phases stronger than all; mg_t10%, sg_t10% stronger than mg, "
+                "sg; sg_t10% stronger than mg_t10%; short phases significantly weaker than "
+                "long (slips, -1e-1 < Delta tau_p < -1e-4)",
+          verdict=lambda v: _words_verdict([x["verdict"] for x in v["comparisons"]]),
+          job="shear.paper"),
+    Claim("shear.paper_event", "shear",
+          "Figs. 3-8: the seven statements on the largest slip (GR regions, force "
+          "localisation, rearrangement site, quadrupole, Fig. 8 courses) on the paper-preset "
+          "run (`validation/shear_event.py`)", "hours", _PAPER, paper_run,
+          show=lambda v: "; ".join(f"{x['id']} ({x['figure']}) {x['verdict']}"
+                                   for x in v["event"]),
+          tolerance="chaotic: the largest slip is another event on another trajectory",
+          check=lambda a, b: (True, "statements are judged, not compared"),
+          paper="Sec. 3.2 (rules: docs/reference/shear.md, 'Judging the largest slip')",
+          verdict=lambda v: _words_verdict([x["verdict"] for x in v["event"]]),
+          job="shear.paper"),
+    Claim("shear.paper_long", "shear",
+          "Fig. 11 (Delta tau_p vs GR contact angles in long phases) and the long-slip "
+          "statement sg_t10% >= mg_t10% (paired bootstrap) on the paper-preset run "
+          "(`validation/shear_long_phases.py`)", "hours", _PAPER, paper_run,
+          show=lambda v: f"Fig. 11: {v['long_detail'][0]}; sg vs mg: {v['long_detail'][1]}",
+          tolerance="chaotic: the verdict words may change with the trajectory",
+          check=lambda a, b: (True, "statements are judged, not compared"),
+          paper="Fig. 11: weak or not significant in every range; Sec. 4: sg_t10% almost "
+                "equal to or stronger than mg_t10% in long slips",
+          verdict=lambda v: _words_verdict([v["fig11"], v["sg_vs_mg"]]),
           job="shear.paper"),
 ]
 
