@@ -1,0 +1,132 @@
+"""Issue 34, item 3: the mu_s sweep at the paper's scale against Lee & Hurley Sec. 4.
+
+Reads the member runs of a sweep (``fricstab shear sweep --preset paper --out DIR``: one
+paper-preset run per mu_s in ``DIR/runs/mus<M>_seed<S>/``; several sittings with
+``--resume``), analyses each from its steady start
+(:func:`fricstab.analysis.stationarity.steady_window` from the run's gamma0, the paper's 2.2 %
+in the paper preset; kept in the
+run folder and reused while the start is the same) and writes ``--md`` (default
+``validation/shear_sweep_paper.md``) and its ``.json``: per mu_s the phase rate against the
+paper's 18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 output steps (mean over the
+seeds run), the steadiness of each member, Sec. 4's eight statements judged per mu_s
+(:mod:`shear_sec4`), and the Spearman tables of every panel of Fig. 13.  Members not finished
+are listed as missing: the page states the scale reached.
+
+Usage::
+
+    fricstab shear sweep --preset paper --out DIR --workers 2 [--resume]   # ~6 h per member
+    python validation/shear_sweep_paper.py DIR
+"""
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE))
+
+
+def members(sweep_dir):
+    """{(mu_s, seed): run folder} of the sweep's finished members, and the unfinished ones."""
+    done, todo = {}, []
+    for run in sorted((Path(sweep_dir) / "runs").glob("mus*_seed*")):
+        mus, seed = run.name[3:].split("_seed")
+        key = (float(mus), int(seed))
+        (done.__setitem__(key, run) if (run / "shear.json").exists() else todo.append(key))
+    return done, todo
+
+
+def analysed(run, log=print):
+    """The analysis of ``run`` from its steady start (made here, or the one in the folder
+    when it starts there): (tables, summary, steady info)."""
+    from fricstab.analysis.stationarity import steady_window
+    from fricstab.cli import main
+    with np.load(run / "shear.npz") as z:
+        strain, tau = z["strain"], z["tau"]
+    gamma0 = json.loads((run / "shear.json").read_text())["parameters"]["gamma0"]  # paper: 2.2 %
+    start, info = steady_window(strain, tau, gamma0)
+    rec = run / "analysis.json"
+    have = json.loads(rec.read_text()) if rec.exists() else None
+    if have is None or have["parameters"].get("gamma0") != start:
+        log(f"{run.name}: analysing from strain {start:.5f}")
+        argv = ["shear", "analyze", "--out", str(run), "--gamma0", repr(start), "--force",
+                "--no-progress"]
+        if main(argv) != 0:
+            raise RuntimeError(f"fricstab {' '.join(argv)} failed")
+        have = json.loads(rec.read_text())
+    return have["tables"], have["summary"], {**info, "window_from": start}
+
+
+def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
+    """Analyse and judge the finished members; write ``md`` and its ``.json``; the document."""
+    import shear_sec4
+    import shear_sweep
+    from fricstab.analysis.shear import tables_markdown
+    done, todo = members(sweep_dir)
+    if not done:
+        raise SystemExit(f"{sweep_dir}: no finished member in runs/ (run `fricstab shear sweep "
+                         f"--preset paper --out {sweep_dir}` first)")
+    rows, tables = {}, {}
+    for (mus, seed), run in sorted(done.items()):
+        t, s, st = analysed(run, log)
+        rows.setdefault(mus, []).append({"seed": seed, "rate": s["phases_per_step"],
+                                         "phases": s["n_phases"], "steps": s["n_steps"],
+                                         "steady": st})
+        tables.setdefault(mus, t)                  # the lowest seed's tables
+    paper = {m: n / 130_000 for m, n in shear_sweep.PAPER.items()}
+    judged = shear_sec4.judge_sweep(tables)
+    lines = ["# Plane shear: friction sweep at the paper's scale (Lee & Hurley Sec. 4)", "",
+             f"Sweep: `{sweep_dir}` (`fricstab shear sweep --preset paper`), analysed from each "
+             "member's steady start by `python validation/shear_sweep_paper.py`. Finished: "
+             + ", ".join(f"mu_s = {m:g} seed {s}" for m, s in sorted(done)) + "; missing: "
+             + (", ".join(f"mu_s = {m:g} seed {s}" for m, s in todo) or "none")
+             + (" (not in runs/ yet: " + ", ".join(
+                 f"{m:g}" for m in paper if m not in rows) + ")" if set(paper) - set(rows)
+                else "") + ".", "",
+             "| mu_s | seeds | phases per output step (each seed) | paper | ours / paper | "
+             "window from (strain) | steady |", "|---|---|---|---|---|---|---|"]
+    for m, rs in sorted(rows.items()):
+        rate = float(np.mean([r["rate"] for r in rs]))
+        ref = paper.get(m)
+        lines.append(f"| {m:g} | {len(rs)} | " + " / ".join(f"{r['rate']:.3f}" for r in rs)
+                     + f" | {'-' if ref is None else f'{ref:.3f}'} | "
+                     + ("-" if ref is None else f"{rate / ref:.2f}") + " | "
+                     + " / ".join(f"{r['steady']['window_from']:.4f}" for r in rs) + " | "
+                     + " / ".join("yes" if r["steady"]["steady"] else "no" for r in rs) + " |")
+    lines += ["", "## The paper's statements on Fig. 13 (Sec. 4)", "",
+              "Rules: `validation/shear_sec4.py` (as `validation/shear_sweep.md`).", "",
+              shear_sec4.markdown(judged), "",
+              "## Fig. 13, every panel (Spearman rho (p, n) per bin; struck through: p > 0.05)",
+              ""]
+    for title, section, series in shear_sweep.PANELS:
+        panel = {f"mu_s = {m:g}": tables[m][section][series] for m in sorted(tables)}
+        lines.append(tables_markdown({title: panel}, title).split("\n", 2)[2])
+    md = Path(md)
+    md.write_text("\n".join(lines) + "\n")
+    doc = {"sweep": str(sweep_dir), "done": [list(k) for k in sorted(done)],
+           "missing": [list(k) for k in todo],
+           "rates": {f"{m:g}": rs for m, rs in sorted(rows.items())},
+           "paper": {f"{m:g}": r for m, r in paper.items()},
+           "sec4": [{k: x[k] for k in ("id", "panels", "paper", "verdict")}
+                    | {"cells": {f"{m:g}": c["verdict"] for m, c in x["cells"].items()}}
+                    for x in judged]}
+    md.with_suffix(".json").write_text(json.dumps(doc, indent=1, default=float))
+    log(f"wrote {md}")
+    return doc
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("sweep", type=Path, help="the --out DIR of `fricstab shear sweep`")
+    ap.add_argument("--md", type=Path, default=HERE / "shear_sweep_paper.md")
+    a = ap.parse_args(argv)
+    report(a.sweep, a.md)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
