@@ -581,11 +581,20 @@ def paper_run():
     from fricstab.cli import main
     run = os.environ.get("FRICSTAB_SHEAR_PAPER_RUN") or str(
         Path(tempfile.mkdtemp(prefix="claims_paper_")) / "run")
-    resume = ["--resume"] if Path(run).is_dir() and any(Path(run).iterdir()) else []
-    argv = ["shear", "run", "--preset", "paper", "--out", run, "--quiet", "--no-progress",
-            *resume]
-    if main(argv) != 0:
-        raise RuntimeError(f"fricstab {' '.join(argv)} failed")
+    if (Path(run) / "shear.json").exists():     # complete (a paper sweep's mu_s = 0.7 member)
+        from fricstab.cli.shear import resolve_params
+        made = json.loads((Path(run) / "shear.json").read_text())["fingerprint"]["parameters"]
+        want = json.loads(json.dumps(resolve_params(None, "paper", {})))
+        if made != want:
+            raise RuntimeError(f"{run}: a complete run, not of the paper preset (differs in "
+                               + ", ".join(k for k in sorted(set(made) | set(want))
+                                           if made.get(k) != want.get(k)) + ")")
+    else:
+        resume = ["--resume"] if Path(run).is_dir() and any(Path(run).iterdir()) else []
+        argv = ["shear", "run", "--preset", "paper", "--out", run, "--quiet", "--no-progress",
+                *resume]
+        if main(argv) != 0:
+            raise RuntimeError(f"fricstab {' '.join(argv)} failed")
     start, _ = shear_paper.steady_window(run)       # the statistics of the steady state only
     argv = ["shear", "analyze", "--out", run, "--gamma0", repr(start), "--force",
             "--no-progress"]
