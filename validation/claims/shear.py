@@ -663,6 +663,18 @@ def _words_verdict(words):
                                     if w.count(k)) + "; agree if every statement agrees")
 
 
+def _judged(name, title, key, tolerance, paper):
+    """A claim of the paper-preset run whose values under ``key`` are judged statements
+    (id, figure, verdict): agrees where every one agrees (:func:`_words_verdict`)."""
+    return Claim(name, "shear", title, "hours", _PAPER, paper_run,
+                 show=lambda v: "; ".join(f"{x['id']} ({x['figure']}) {x['verdict']}"
+                                          for x in v[key]),
+                 tolerance=tolerance,
+                 check=lambda a, b: (True, "statements are judged, not compared"),
+                 paper=paper, verdict=lambda v: _words_verdict([x["verdict"] for x in v[key]]),
+                 job="shear.paper")
+
+
 def _steady_text(st):
     """The steadiness of the paper-preset run's window (``shear_paper.steadiness``)."""
     if not st:
@@ -1065,30 +1077,19 @@ CLAIMS = [
                         for w in ("agrees", "partly", "differs"))
               + "; agree if no statement differs"),
           job="shear.paper"),
-    Claim("shear.paper_comparisons", "shear",
-          "Sec. 3.3's four comparisons on Figs. 9b-10b (long vs all phases, t10 vs plain "
-          "metrics, sg_t10% vs mg_t10%, short vs long phases) on the paper-preset run", "hours",
-          _PAPER, paper_run,
-          show=lambda v: "; ".join(f"{x['id']} ({x['figure']}) {x['verdict']}"
-                                   for x in v["comparisons"]),
-          tolerance="chaotic: the verdict words may change with the trajectory",
-          check=lambda a, b: (True, "statements are judged, not compared"),
-          paper="Sec. 3.3: long phases stronger than all; mg_t10%, sg_t10% stronger than mg, "
-                "sg; sg_t10% stronger than mg_t10%; short phases significantly weaker than "
-                "long (slips, -1e-1 < Delta tau_p < -1e-4)",
-          verdict=lambda v: _words_verdict([x["verdict"] for x in v["comparisons"]]),
-          job="shear.paper"),
-    Claim("shear.paper_event", "shear",
-          "Figs. 3-8: the seven statements on the largest slip (GR regions, force "
-          "localisation, rearrangement site, quadrupole, Fig. 8 courses) on the paper-preset "
-          "run (`validation/shear_event.py`)", "hours", _PAPER, paper_run,
-          show=lambda v: "; ".join(f"{x['id']} ({x['figure']}) {x['verdict']}"
-                                   for x in v["event"]),
-          tolerance="chaotic: the largest slip is another event on another trajectory",
-          check=lambda a, b: (True, "statements are judged, not compared"),
-          paper="Sec. 3.2 (rules: docs/reference/shear.md, 'Judging the largest slip')",
-          verdict=lambda v: _words_verdict([x["verdict"] for x in v["event"]]),
-          job="shear.paper"),
+    _judged("shear.paper_comparisons",
+            "Sec. 3.3's four comparisons on Figs. 9b-10b (long vs all phases, t10 vs plain "
+            "metrics, sg_t10% vs mg_t10%, short vs long phases) on the paper-preset run",
+            "comparisons", "chaotic: the verdict words may change with the trajectory",
+            "Sec. 3.3: long phases stronger than all; mg_t10%, sg_t10% stronger than mg, sg; "
+            "sg_t10% stronger than mg_t10%; short phases significantly weaker than long "
+            "(slips, -1e-1 < Delta tau_p < -1e-4)"),
+    _judged("shear.paper_event",
+            "Figs. 3-8: the seven statements on the largest slip (GR regions, force "
+            "localisation, rearrangement site, quadrupole, Fig. 8 courses) on the paper-preset "
+            "run (`validation/shear_event.py`)", "event",
+            "chaotic: the largest slip is another event on another trajectory",
+            "Sec. 3.2 (rules: docs/reference/shear.md, 'Judging the largest slip')"),
     Claim("shear.paper_long", "shear",
           "Fig. 11 (Delta tau_p vs GR contact angles in long phases) and the long-slip "
           "statement sg_t10% >= mg_t10% (paired bootstrap) on the paper-preset run "
