@@ -25,8 +25,14 @@ def _cells(rho):
              "status": "ok"} for lo, hi in BINS]
 
 
+#: the tables and series of an analysis (fricstab.analysis.shear.analyze)
+SERIES = {"step_dtau": ("g", "g10"), "phase_all": ("mg", "mg10", "sg", "sg10"),
+          "phase_long": ("mg", "mg10", "sg", "sg10"), "phase_short": ("mg", "mg10", "sg", "sg10"),
+          "phase_tp": ("long", "short")}
+
+
 def _member(rate, steps, rho):
-    tables = {t: {s: _cells(rho) for s in series} for t, series in shear_sweep.USED.items()}
+    tables = {t: {s: _cells(rho) for s in series} for t, series in SERIES.items()}
     rec = {"phases": {"phases_per_step": rate, "n_phases": round(rate * steps),
                       "window_steps": steps}}
     return shear_sweep.as_member(rec, {"summary": {}, "tables": tables})
@@ -41,6 +47,12 @@ def test_sweep_report_writes_the_page_and_returns_its_numbers(tmp_path):
     assert out["0.1"]["tables"]["phase_long"]["mg10"][0]["rho"] == 0.5
     text = md.read_text()
     assert "| 0.7 | 400 | 1000 | 0.400 | 0.323 |" in text
+    # every cell moderate (0.5, n = 20): 4.4 (long phases mostly moderate) agrees at every
+    # mu_s, 4.3 (strong below -1e-2) disagrees at every one
+    assert "| 4.4 | 13c, g |" in text and "| 4.3 | 13c, g |" in text
+    row = next(ln for ln in text.splitlines() if ln.startswith("| 4.3 |"))
+    assert row.endswith("| disagrees | disagrees | disagrees | disagrees | **disagrees** |")
+    assert "(j) Delta tau_p - t_p, long phases" in text
     assert (tmp_path / "shear_sweep_fig13c.png").stat().st_size > 1000
     json.dumps(out)
 
