@@ -261,8 +261,9 @@ def chosen(summary, scale, paper=None):
 def verdict(summary, scale, paper=None):
     """The sentence of :func:`chosen`, with the reading chosen."""
     pick, _, why = chosen(summary, scale, paper)
-    return why if pick is None and scale not in ("paper", "decide") else (
-        f"reading chosen: {pick or 'none'}: {why}")
+    if scale not in ("paper", "decide"):
+        return why                                  # not judged at this scale
+    return f"reading chosen: {pick or 'none'}: {why}"
 
 
 def write(rows, summary, scale, seeds, out):

@@ -36,7 +36,10 @@ def members(sweep_dir):
     for run in sorted((Path(sweep_dir) / "runs").glob("mus*_seed*")):
         mus, seed = run.name[3:].split("_seed")
         key = (float(mus), int(seed))
-        (done.__setitem__(key, run) if (run / "shear.json").exists() else todo.append(key))
+        if (run / "shear.json").exists():
+            done[key] = run
+        else:
+            todo.append(key)
     return done, todo
 
 
