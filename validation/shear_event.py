@@ -108,8 +108,10 @@ def figure(doc, path):
     return finish(fig, path, dpi=120)
 
 
-def report(run, an_dir=None, event=None, pad=10, onset=2, n_perm=2000):
-    """Judge the event of the run in ``run`` (analysis in ``an_dir``); write the three files."""
+def report(run, an_dir=None, event=None, pad=10, onset=2, n_perm=2000, frames=None):
+    """Judge the event of the run in ``run`` (analysis in ``an_dir``); write the three files.
+    ``frames``: the run's frames where ``run`` holds none (a segmented run,
+    ``shear_rolling.event_frames``)."""
     from fricstab.analysis.shear_event import judge_event
     from fricstab.cli.shear_analyze import frames_of
     run = Path(run)
@@ -128,7 +130,8 @@ def report(run, an_dir=None, event=None, pad=10, onset=2, n_perm=2000):
         of = rec.get("parameters", {}).get("run")
         if made and of and made != of:
             raise ParameterError(f"the analysis in {an_dir} is of another run than {run}")
-    frames = frames_of(run, partial=not complete)
+    if frames is None:
+        frames = frames_of(run, partial=not complete)
     factor = s["radius_cut"] / s["r_p"] if s.get("radius_cut") and s.get("r_p") else 5.0
     doc = judge_event(frames, arrays, event, pad=pad, onset=onset, n_perm=n_perm,
                       radius_factor=factor, fraction=s.get("fraction", 0.01))

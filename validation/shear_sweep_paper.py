@@ -16,6 +16,12 @@ Usage::
 
     fricstab shear sweep --preset paper --out DIR --workers 2 [--resume]   # ~6 h per member
     python validation/shear_sweep_paper.py DIR
+
+or, members run in committed segments across sittings and machines
+(``validation/shear_rolling.py``)::
+
+    python validation/shear_rolling.py export --out DIR
+    python validation/shear_sweep_paper.py DIR
 """
 
 import argparse

@@ -575,12 +575,12 @@ def paper_run():
     temporary folder; ~19 GB of frames, ~6 h on one core)."""
     import json
     import os
-    import tempfile
     _validation()
     import shear_paper
     from fricstab.cli import main
-    run = os.environ.get("FRICSTAB_SHEAR_PAPER_RUN") or str(
-        Path(tempfile.mkdtemp(prefix="claims_paper_")) / "run")
+    run = os.environ.get("FRICSTAB_SHEAR_PAPER_RUN")
+    if run is None:     # the committed, segmented member: minutes once it is complete
+        return _paper_pages(*_rolling_paper_run())
     if (Path(run) / "shear.json").exists():     # complete (a paper sweep's mu_s = 0.7 member)
         from fricstab.cli.shear import resolve_params
         made = json.loads((Path(run) / "shear.json").read_text())["fingerprint"]["parameters"]
@@ -600,12 +600,42 @@ def paper_run():
             "--no-progress"]
     if main(argv) != 0:
         raise RuntimeError(f"fricstab {' '.join(argv)} failed")
+    return _paper_pages(run, None, None)
+
+
+def _rolling_paper_run():
+    """The paper-preset run as the committed segmented member (``validation/shear_rolling.py``:
+    mu_s = 0.7, seed 0), run on where its store stopped (hours while it is not finished),
+    exported with its analysis from the steady start; (run folder, the event's frames, the
+    code units of its segments)."""
+    import tempfile
+
+    import numpy as np
+    _validation()
+    import shear_rolling
+    from fricstab.analysis.shear_event import event_window
+    shear_rolling.run(0.7, 0, "paper")
+    folder = shear_rolling.STORE / "mus0.7_seed0"
+    run = shear_rolling.export(folder, Path(tempfile.mkdtemp(prefix="claims_paper_")) / "run")
+    with np.load(run / "analysis.npz") as z:
+        steps = event_window({k: z[k] for k in z.files})["steps"]
+    units = shear_rolling.arrays(folder)[-1]
+    return str(run), shear_rolling.event_frames(folder, steps[0] - 1, steps[-1]), units
+
+
+def _paper_pages(run, frames, units):
+    """``shear_paper.py``, ``shear_event.py`` and ``shear_long_phases.py`` on the analysed
+    paper-preset run in ``run`` (``frames``: its frames where the folder holds none; ``units``:
+    the code that made stored results the pages read, None where this process made them)."""
+    import json
+    _validation()
+    import shear_paper
     if shear_paper.main([run]) != 0:
         raise RuntimeError("shear_paper.py failed")
     import shutil
     import shear_event
     import shear_long_phases
-    event = shear_event.report(run)                 # Figs. 3-8: the largest slip
+    event = shear_event.report(run, frames=frames)  # Figs. 3-8: the largest slip
     long_ = shear_long_phases.report(run)           # Fig. 11, sg_t10% vs mg_t10%
     for name, dest in (("event.md", "shear_paper_event.md"), ("event.png", "shear_paper_event.png"),
                        ("long_phases.md", "shear_paper_long_phases.md")):
@@ -630,7 +660,7 @@ def paper_run():
                    "fig11": long_["fig11_verdict"].split(":")[0].split(" (")[0],
                    "sg_vs_mg": long_["sg_verdict"].split(":")[0].split(" (")[0],
                    "long_detail": [long_["fig11_verdict"], long_["sg_verdict"]]},
-                  seeds=(0,), outputs=("validation/shear_paper.md",
+                  seeds=(0,), units=units, outputs=("validation/shear_paper.md",
                                        "validation/shear_paper.json", *figs,
                                        "validation/shear_paper_event.md",
                                        "validation/shear_paper_long_phases.md"))

@@ -1,0 +1,159 @@
+"""``validation/shear_rolling.py``: a segmented shear run equals the uninterrupted one.
+
+A tiny member (40 disks, 100 frames, a few slips) is run in segments of 30 frames, stopped
+at half its strain and continued in a second call (as on the next sitting: the state comes
+back from the stored segment, not from memory).  Its series and every array, table and
+summary of its analysis equal, to the bit, those of ``run_shear`` and ``analyze`` on the
+frames of one uninterrupted run of the same parameters; so does the analysis from another
+gamma0.  A store made by other code, or holding other parameters, is refused with one line.
+"""
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import shear_rolling  # noqa: E402
+from fricstab.analysis.shear import analyze  # noqa: E402
+from fricstab.cli.shear import run_shear  # noqa: E402
+from fricstab.cli.shear_analyze import frames_of  # noqa: E402
+
+TINY = {"n": 40, "dgamma": 1e-4, "gamma0": 0.002}
+
+
+def _same(a, b, where):
+    if isinstance(a, dict):
+        assert sorted(a) == sorted(b), where
+        for k in a:
+            _same(a[k], b[k], f"{where}.{k}")
+    elif isinstance(a, (list, tuple)):
+        assert len(a) == len(b), where
+        for i, (x, y) in enumerate(zip(a, b)):
+            _same(x, y, f"{where}[{i}]")
+    elif isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        assert np.array_equal(a, b, equal_nan=True), where
+    elif isinstance(a, float) and isinstance(b, float) and np.isnan(a):
+        assert np.isnan(b), where
+    else:
+        assert a == b, where
+
+
+@pytest.fixture(scope="module")
+def member(tmp_path_factory):
+    root = tmp_path_factory.mktemp("rolling")
+    store = root / "store"
+    quiet = dict(preset="quick", segment=30, store=store, log=lambda m: None)
+    # half the strain now, the rest in a second call (the strain only stops a run)
+    assert shear_rolling.run(0.7, overrides={**TINY, "strain": 0.005}, **quiet) == 50
+    assert shear_rolling.run(0.7, overrides={**TINY, "strain": 0.01}, **quiet) == 100
+    params = shear_rolling.member_params(0.7, 0, "quick", **TINY, strain=0.01)
+    run_shear(params, root / "direct", log=lambda m: None)
+    assert shear_rolling.label(params, "quick") == "quick-mus0.7_seed0"
+    return store / shear_rolling.label(params, "quick"), root / "direct", params
+
+
+def test_segments_continue_the_run_bit_identically(member):
+    folder, direct, params = member
+    names = [f.name for f in shear_rolling.segments(folder)]
+    # frames 0..30, 31..50 (stopped at strain 0.005), 51..80, 81..100
+    assert names == ["seg_0000.npz", "seg_0001.npz", "seg_0002.npz", "seg_0003.npz"]
+    series, *_ = shear_rolling.arrays(folder)
+    with np.load(direct / "shear.npz") as z:
+        want = np.column_stack([z[n] for n in shear_rolling.SERIES])
+    assert series.shape == (101, 6)
+    assert np.array_equal(series, want)
+
+
+@pytest.mark.parametrize("gamma0", [None, 0.004])
+def test_analysis_equals_the_analysis_of_the_frames(member, gamma0):
+    folder, direct, params = member
+    res, _, _ = shear_rolling.analysis(folder, gamma0)
+    want = analyze(frames_of(direct), params["gamma0"] if gamma0 is None else gamma0,
+                   progress=False)
+    assert res.summary["n_phases"] > 3 and res.summary["n_slip"] > 0   # something to compare
+    _same(res.arrays, want.arrays, "arrays")
+    _same(res.phases, want.phases, "phases")
+    _same(res.tables, want.tables, "tables")
+    _same(res.summary, want.summary, "summary")
+
+
+def test_a_segment_reruns_to_the_frames_of_the_run(member):
+    folder, direct, _ = member
+    frames = shear_rolling.frames_of_segment(folder, 2)        # frames 50..80, 50 carried over
+    want = frames_of(direct).subset(list(range(50, 81)))
+    assert frames.n_frames == 31
+    for name in ("pos", "vel", "contact_ij", "contact_force", "contact_hist", "tau"):
+        assert np.array_equal(getattr(frames, name), getattr(want, name)), name
+    first = shear_rolling.frames_of_segment(folder, 0)        # the preparation rerun, too
+    assert np.array_equal(first.pos, frames_of(direct).subset(list(range(31))).pos)
+
+
+def test_event_frames_span_segments(member):
+    folder, direct, _ = member
+    window = shear_rolling.event_frames(folder, 25, 70)        # segments 0, 1 and 2
+    whole = frames_of(direct)
+    for k in (25, 30, 31, 50, 51, 70, -31):
+        assert np.array_equal(window.pos[k], whole.pos[k]), k
+        for a, b in zip(window.contacts(k), whole.contacts(k)):
+            assert np.array_equal(a, b), k
+    with pytest.raises(IndexError, match="only frames 25..70"):
+        window.pos[24]
+
+
+def test_event_page_from_rerun_frames_equals_the_run_s(member, tmp_path):
+    import shear_event
+    from fricstab.analysis.shear_event import event_window
+    from fricstab.cli import main
+    folder, direct, _ = member
+    run = shear_rolling.export(folder, tmp_path / "run", log=lambda m: None)
+    with np.load(run / "analysis.npz") as z:
+        steps = event_window({k: z[k] for k in z.files})["steps"]
+    got = shear_rolling.event_frames(folder, steps[0] - 1, steps[-1])
+    doc = shear_event.report(run, frames=got, n_perm=200)
+    start = json.loads((run / "analysis.json").read_text())["parameters"]["gamma0"]
+    assert main(["shear", "analyze", "--out", str(direct), "--gamma0", repr(start), "--force",
+                 "--no-progress", "--no-spectra"]) == 0
+    want = shear_event.report(direct, n_perm=200)
+    assert doc["statements"] and doc["event"] == want["event"]
+    _same(doc["statements"], want["statements"], "statements")
+
+
+def test_export_is_a_finished_sweep_member(member, tmp_path):
+    import shear_sweep_paper
+    folder, _, params = member
+    shear_rolling.export(folder, tmp_path / "runs" / shear_rolling.label(params),
+                         log=lambda m: None)
+    done, todo = shear_sweep_paper.members(tmp_path)
+    assert list(done) == [(0.7, 0)] and todo == []
+    tables, summary, steady = shear_sweep_paper.analysed(done[0.7, 0], log=None)
+    rec = json.loads((done[0.7, 0] / "analysis.json").read_text())
+    assert rec["parameters"]["gamma0"] == steady["window_from"] >= params["gamma0"]
+    assert summary["n_phases"] > 0
+
+
+def test_export_is_read_by_the_paper_page(member, tmp_path):
+    import shear_paper
+    folder, _, _ = member
+    run = shear_rolling.export(folder, tmp_path / "run", log=lambda m: None)
+    md = tmp_path / "page" / "shear_paper.md"
+    assert shear_paper.main([str(run), "--md", str(md)]) == 0
+    doc = json.loads(md.with_suffix(".json").read_text())
+    res, _, _ = shear_rolling.analysis(folder, doc["summary"]["gamma0"])
+    assert doc["complete"] and doc["summary"]["n_phases"] == res.summary["n_phases"]
+
+
+def test_a_store_of_other_parameters_or_other_code_is_refused(member, monkeypatch):
+    folder, _, _ = member
+    store = folder.parent
+    with pytest.raises(SystemExit, match="other parameters"):
+        shear_rolling.run(0.7, preset="quick", segment=30, store=store, log=lambda m: None,
+                          overrides={**TINY, "strain": 0.02, "n": 41})
+    monkeypatch.setattr(shear_rolling._stamped, "stored", lambda path: None)
+    with pytest.raises(SystemExit, match="seg_0000.npz: made by other code.*--restart"):
+        shear_rolling.run(0.7, preset="quick", segment=30, store=store, log=lambda m: None,
+                          overrides={**TINY, "strain": 0.02})
