@@ -156,8 +156,21 @@ def _segment(sim, cell, params, prev_last, k0, k1, meta):
            **{f"last_{n}": v for n, v in dataclasses.asdict(
                frames.subset([frames.n_frames - 1]), dict_factory=dict).items()
               if n in _FRAME_FIELDS},
-           "machine": np.str_(f"{platform.node()} {platform.machine()} {platform.processor()}")}
+           "machine": np.str_(_machine())}
     return out
+
+
+def _machine():
+    """Host, architecture and CPU model (read from /proc: ``platform.processor()`` starts a
+    process, which would leave the segment's stamp untraced)."""
+    model = ""
+    try:
+        with open("/proc/cpuinfo") as f:
+            model = next((line.split(":", 1)[1].strip() for line in f
+                          if line.startswith("model name")), "")
+    except OSError:
+        pass
+    return f"{platform.node()} {platform.machine()} {model}".strip()
 
 
 def _start(params):
@@ -376,6 +389,7 @@ def export(folder, dest, log=print):
     setting = {"gamma0": start, **({} if finished else {"frames": len(series)})}
     (dest / "analysis.json").write_text(json.dumps(
         {"parameters": setting, "steady": info, "git": git, "segmented": str(folder),
+         "run_parameters": params,
          **res.to_json()}, default=float))
     if finished:    # shear_sweep_paper.py takes a folder with shear.json as finished
         (dest / "shear.json").write_text(json.dumps(

@@ -9,8 +9,10 @@ run folder and reused while the start is the same) and writes ``--md`` (default
 ``validation/shear_sweep_paper.md``) and its ``.json``: per mu_s the phase rate against the
 paper's 18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 output steps (mean over the
 seeds run), the steadiness of each member, Sec. 4's eight statements judged per mu_s
-(:mod:`shear_sec4`), and the Spearman tables of every panel of Fig. 13.  Members not finished
-are listed as missing: the page states the scale reached.
+(:mod:`shear_sec4`), and the Spearman tables of every panel of Fig. 13.  A member still
+running that ``shear_rolling.py export`` wrote enters as far as it got, marked partial with
+the strain it reached; members with nothing analysed are listed as missing: the page states
+the scale reached.
 
 Usage::
 
@@ -49,6 +51,20 @@ def members(sweep_dir):
     return done, todo
 
 
+def partial(sweep_dir, todo):
+    """{(mu_s, seed): run folder} of the unfinished members with an analysis of their frames so
+    far (``shear_rolling.py export`` of a member still running: ``analysis.json`` records its
+    frame count)."""
+    out = {}
+    for mus, seed in todo:
+        run = Path(sweep_dir) / "runs" / f"mus{mus!r}_seed{seed}"
+        rec = run / "analysis.json"
+        if rec.exists() and (run / "shear.npz").exists() and \
+                "frames" in json.loads(rec.read_text()).get("parameters", {}):
+            out[mus, seed] = run
+    return out
+
+
 def analysed(run, log=print):
     """The analysis of ``run`` from its steady start (made here, or the one in the folder
     when it starts there): (tables, summary, steady info)."""
@@ -56,7 +72,10 @@ def analysed(run, log=print):
     from fricstab.cli import main
     with np.load(run / "shear.npz") as z:
         strain, tau = z["strain"], z["tau"]
-    gamma0 = json.loads((run / "shear.json").read_text())["parameters"]["gamma0"]  # paper: 2.2 %
+    made = (json.loads((run / "shear.json").read_text())["parameters"]   # finished, or
+            if (run / "shear.json").exists() else    # a running member's export
+            json.loads((run / "analysis.json").read_text())["run_parameters"])
+    gamma0 = made["gamma0"]                                                 # paper: 2.2 %
     start, info = steady_window(strain, tau, gamma0)
     rec = run / "analysis.json"
     have = json.loads(rec.read_text()) if rec.exists() else None
@@ -76,28 +95,37 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
     import shear_sweep
     from fricstab.analysis.shear import tables_markdown
     done, todo = members(sweep_dir)
-    if not done:
+    part = partial(sweep_dir, todo)
+    todo = [k for k in todo if k not in part]
+    if not done and not part:
         raise SystemExit(f"{sweep_dir}: no finished member in runs/ (run `fricstab shear sweep "
                          f"--preset paper --out {sweep_dir}` first)")
     rows, tables = {}, {}
-    for (mus, seed), run in sorted(done.items()):
+    for (mus, seed), run in sorted({**done, **part}.items()):
         t, s, st = analysed(run, log)
+        with np.load(run / "shear.npz") as z:
+            reached = float(z["strain"][-1])
         rows.setdefault(mus, []).append({"seed": seed, "rate": s["phases_per_step"],
                                          "phases": s["n_phases"], "steps": s["n_steps"],
-                                         "steady": st})
+                                         "steady": st, "strain": reached,
+                                         "partial": (mus, seed) in part})
         tables.setdefault(mus, t)                  # the lowest seed's tables
     paper = {m: n / 130_000 for m, n in shear_sweep.PAPER.items()}
     judged = shear_sec4.judge_sweep(tables)
     lines = ["# Plane shear: friction sweep at the paper's scale (Lee & Hurley Sec. 4)", "",
              f"Sweep: `{sweep_dir}` (`fricstab shear sweep --preset paper`), analysed from each "
              "member's steady start by `python validation/shear_sweep_paper.py`. Finished: "
-             + ", ".join(f"mu_s = {m:g} seed {s}" for m, s in sorted(done)) + "; missing: "
+             + (", ".join(f"mu_s = {m:g} seed {s}" for m, s in sorted(done)) or "none")
+             + "; partial (the scale reached): "
+             + (", ".join(f"mu_s = {r['mus']:g} seed {r['seed']} to strain {r['strain']:.4f}"
+                          for r in _partial_rows(rows)) or "none") + "; missing: "
              + (", ".join(f"mu_s = {m:g} seed {s}" for m, s in todo) or "none")
              + (" (not in runs/ yet: " + ", ".join(
                  f"{m:g}" for m in paper if m not in rows) + ")" if set(paper) - set(rows)
                 else "") + ".", "",
              "| mu_s | seeds | phases per output step (each seed) | paper | ours / paper | "
-             "window from (strain) | steady |", "|---|---|---|---|---|---|---|"]
+             "window from (strain) | strain reached | steady |",
+             "|---|---|---|---|---|---|---|---|"]
     for m, rs in sorted(rows.items()):
         rate = float(np.mean([r["rate"] for r in rs]))
         ref = paper.get(m)
@@ -105,6 +133,8 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
                      + f" | {'-' if ref is None else f'{ref:.3f}'} | "
                      + ("-" if ref is None else f"{rate / ref:.2f}") + " | "
                      + " / ".join(f"{r['steady']['window_from']:.4f}" for r in rs) + " | "
+                     + " / ".join(f"{r['strain']:.4f}{' (partial)' if r['partial'] else ''}"
+                                  for r in rs) + " | "
                      + " / ".join("yes" if r["steady"]["steady"] else "no" for r in rs) + " |")
     lines += ["", "## The paper's statements on Fig. 13 (Sec. 4)", "",
               "Rules: `validation/shear_sec4.py` (as `validation/shear_sweep.md`).", "",
@@ -117,6 +147,7 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
     md = Path(md)
     md.write_text("\n".join(lines) + "\n")
     doc = {"sweep": str(sweep_dir), "done": [list(k) for k in sorted(done)],
+           "partial": [list(k) for k in sorted(part)],
            "missing": [list(k) for k in todo],
            "rates": {f"{m:g}": rs for m, rs in sorted(rows.items())},
            "paper": {f"{m:g}": r for m, r in paper.items()},
@@ -126,6 +157,10 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
     md.with_suffix(".json").write_text(json.dumps(doc, indent=1, default=float))
     log(f"wrote {md}")
     return doc
+
+
+def _partial_rows(rows):
+    return [{"mus": m, **r} for m, rs in sorted(rows.items()) for r in rs if r["partial"]]
 
 
 def main(argv=None):

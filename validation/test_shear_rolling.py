@@ -147,6 +147,51 @@ def test_export_is_read_by_the_paper_page(member, tmp_path):
     assert doc["complete"] and doc["summary"]["n_phases"] == res.summary["n_phases"]
 
 
+def test_a_running_member_is_reported_as_far_as_it_got(member, tmp_path):
+    import shutil
+
+    import shear_sweep_paper
+    folder, _, params = member
+    running = tmp_path / "store" / folder.name
+    shutil.copytree(folder, running)
+    rec = json.loads((running / "member.json").read_text())
+    rec["parameters"]["strain"] = 0.02                         # half way: 100 of 200 frames
+    (running / "member.json").write_text(json.dumps(rec))
+    sweep = tmp_path / "sweep"
+    shear_rolling.export(running, sweep / "runs" / shear_rolling.label(params),
+                         log=lambda m: None)
+    assert not (sweep / "runs" / shear_rolling.label(params) / "shear.json").exists()
+    doc = shear_sweep_paper.report(sweep, tmp_path / "p.md", log=lambda m: None)
+    assert doc["done"] == [] and doc["partial"] == [[0.7, 0]]
+    (r,) = doc["rates"]["0.7"]
+    assert r["partial"] and r["strain"] == pytest.approx(0.01)
+    text = (tmp_path / "p.md").read_text()
+    assert "partial (the scale reached): mu_s = 0.7 seed 0 to strain 0.0100" in text
+
+
+def test_the_sweep_claim_states_the_scale_reached(member, tmp_path):
+    import shutil
+
+    from claims import shear_sweep_paper as claim
+    folder, _, _ = member
+    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    res = claim.sweep_paper(tmp_path / "store", tmp_path / "p.md")
+    v = res.values
+    assert v["done"] == [[0.7, 0]] and v["partial"] == [] and res.units
+    assert [x["id"] for x in v["sec4"]] == [f"4.{i}" for i in range(1, 9)]
+    said = claim.verdict(v)
+    assert said.label in ("agrees", "disagrees", "undecided")
+    assert "mu_s = 0.7 seed 0 to strain 0.0100; mu_s = 0.5 not started" in said.detail
+    assert "per step (paper 0.323)" in claim.show(v)
+    assert claim.check(v, v) == (True, "identical")
+    grown = json.loads(json.dumps(v))
+    grown["rates"]["0.7"][0]["strain"] = 0.02
+    assert claim.check(v, grown)[0]
+    other = json.loads(json.dumps(v))
+    other["rates"]["0.7"][0]["rate"] += 0.01
+    assert claim.check(v, other) == (False, "the same store gave other numbers")
+
+
 def test_a_store_of_other_parameters_or_other_code_is_refused(member, monkeypatch):
     folder, _, _ = member
     store = folder.parent

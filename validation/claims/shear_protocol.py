@@ -136,3 +136,7 @@ CLAIMS = [
           texts={"table": table,
                  "choice": lambda v: f"{v['chosen']}: {v['why']}"}),
 ]
+
+from .shear_sweep_paper import CLAIMS as _SWEEP_PAPER  # noqa: E402
+
+CLAIMS += _SWEEP_PAPER
