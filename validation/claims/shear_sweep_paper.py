@@ -97,7 +97,7 @@ CLAIMS = [
           "the mu_s sweep at the paper's scale (paper preset, mu_s = 0.7 / 0.5 / 0.3 / 0.1, "
           "seed 0; committed segmented members, each analysed from its steady start): phase "
           "rates against the paper's and Sec. 4's eight statements per mu_s, at the scale "
-          "reached", "minutes", COMMAND, sweep_paper, show=show,
+          "reached", "hours", COMMAND, sweep_paper, show=show,
           tolerance=("the same store regenerates the same numbers to the bit (the analysis is "
                      "deterministic); a store that grew is judged afresh"),
           check=check,
