@@ -10,9 +10,11 @@ that needs two frames, :data:`fricstab.analysis.shear.PER_STEP`).  The segment f
 series of its frames (time, strain, N, S, tau, height), those per-step arrays, the checkpoint
 at its end (:meth:`fricstab.protocols.shear_run.ShearRun.arrays`) and its last frame (the
 first segment also the preparation's record); the frames are dropped.  Every segment starts
-from the stored state of the one before, in this process as on the next sitting's machine.  A finished segment is ~1 MB, committed in
+from the stored state of the one before, in this process as on the next sitting's machine.
+A segment of the paper preset is 0.69 MB (~22 MB a member), committed in
 ``validation/runs/shear_rolling/<mus..._seed...>/``, so the next sitting goes on where this
-one stopped, on whatever machine it gets.
+one stopped, on whatever machine it gets.  Measured (2-core AMD EPYC, the other core busy):
+the preparation 391 s, a segment ~710 s (shearing and per-step analyses), ~6.3 h a member.
 
 The phases, their metrics and the Spearman tables depend on the per-step arrays and the tau
 series only, so :func:`analysis` assembles them with ``analyze(..., previous=...)`` from any
@@ -22,8 +24,9 @@ numbers, to the bit, as ``fricstab shear analyze`` on the frames of an uninterru
 (``shear.npz``, ``shear.json``, ``analysis.npz``, ``analysis.json``) that
 ``validation/shear_sweep_paper.py`` and ``validation/shear_long_phases.py`` read as they read
 a ``fricstab shear sweep`` member.  Not kept: the frames themselves, so the event maps of
-Figs. 3-7 need the segment of the event rerun from the previous segment's checkpoint (its end
-state is stored: ~11 min), and the slip spectra (our extension) are not computed.
+Figs. 3-7 rerun the event's segment from the state stored before it (:func:`event_frames`,
+checked to repeat the stored series to the bit; ~12 min), and the slip spectra (our
+extension) are not computed.
 
 Each segment is stamped with the functions of the checkout it executed
 (:mod:`_stamped`): where one of them changed, the member is refused with the stale segment
@@ -54,12 +57,12 @@ sys.path.insert(0, str(HERE))
 import numpy as np  # noqa: E402
 
 import _stamped  # noqa: E402
+from fricstab.cli.shear import SERIES  # noqa: E402  (time, strain, N, S, tau, height)
+from fricstab.io.frames import Frames  # noqa: E402
 
 STORE = HERE / "runs" / "shear_rolling"
-SEGMENT = 5_000          # output frames per segment: ~11 min at the paper's scale on one core
-SERIES = ("time", "strain", "normal_force", "shear_force", "tau", "height")
-_FRAME_FIELDS = tuple(f.name for f in dataclasses.fields(__import__(
-    "fricstab.io.frames", fromlist=["Frames"]).Frames) if f.name not in ("lx", "meta"))
+SEGMENT = 5_000          # output frames per segment: ~12 min at the paper's scale on one core
+_FRAME_FIELDS = tuple(f.name for f in dataclasses.fields(Frames) if f.name not in ("lx", "meta"))
 
 
 def label(params, preset="paper"):
