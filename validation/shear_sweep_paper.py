@@ -127,11 +127,13 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
              "window from (strain) | strain reached | steady |",
              "|---|---|---|---|---|---|---|---|"]
     for m, rs in sorted(rows.items()):
-        rate = float(np.mean([r["rate"] for r in rs]))
+        got = [r["rate"] for r in rs if r["rate"] is not None]   # None: no step past gamma0
+        rate = float(np.mean(got)) if got else None
         ref = paper.get(m)
-        lines.append(f"| {m:g} | {len(rs)} | " + " / ".join(f"{r['rate']:.3f}" for r in rs)
+        lines.append(f"| {m:g} | {len(rs)} | " + " / ".join(
+            "no step past gamma0 yet" if r["rate"] is None else f"{r['rate']:.3f}" for r in rs)
                      + f" | {'-' if ref is None else f'{ref:.3f}'} | "
-                     + ("-" if ref is None else f"{rate / ref:.2f}") + " | "
+                     + ("-" if ref is None or rate is None else f"{rate / ref:.2f}") + " | "
                      + " / ".join(f"{r['steady']['window_from']:.4f}" for r in rs) + " | "
                      + " / ".join(f"{r['strain']:.4f}{' (partial)' if r['partial'] else ''}"
                                   for r in rs) + " | "

@@ -180,7 +180,15 @@ def test_the_sweep_claim_states_the_scale_reached(member, tmp_path):
     assert v["done"] == [[0.7, 0]] and v["partial"] == [] and res.units
     assert [x["id"] for x in v["sec4"]] == [f"4.{i}" for i in range(1, 9)]
     said = claim.verdict(v)
-    assert said.label in ("agrees", "disagrees", "undecided")
+    words = [x["verdict"] for x in v["sec4"]]
+    assert said.label == ("not comparable" if set(words) == {"not comparable"} else
+                          "disagrees" if "disagrees" in words else
+                          "agrees" if set(words) == {"agrees"} else "undecided")
+    none = {**v, "sec4": [{**x, "verdict": "not comparable"} for x in v["sec4"]]}
+    assert claim.verdict(none).label == "not comparable"
+    one = {**v, "sec4": [{**x, "verdict": "agrees"} for x in v["sec4"]]}
+    one["sec4"][3]["verdict"] = "disagrees"
+    assert claim.verdict(one).label == "disagrees"
     assert "mu_s = 0.7 seed 0 to strain 0.0100; mu_s = 0.5 not started" in said.detail
     assert "per step (paper 0.323)" in claim.show(v)
     assert claim.check(v, v) == (True, "identical")

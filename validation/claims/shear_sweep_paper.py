@@ -62,7 +62,8 @@ def reached(v):
 
 
 def show(v):
-    rates = "; ".join(f"mu_s = {m}: " + " / ".join(f"{r['rate']:.3f}" for r in rs)
+    rates = "; ".join(f"mu_s = {m}: " + " / ".join(
+        "no step past gamma0 yet" if r["rate"] is None else f"{r['rate']:.3f}" for r in rs)
                       + f" per step (paper {v['paper'][m]:.3f})"
                       for m, rs in sorted(v["rates"].items(), key=lambda kv: -float(kv[0])))
     sec4 = "; ".join(f"{x['id']} " + "/".join(
@@ -74,9 +75,11 @@ def show(v):
 
 def verdict(v):
     """Sec. 4's statements over the members run: agrees where every statement agrees at every
-    mu_s, disagrees where one disagrees, else undecided; with the scale reached."""
+    mu_s, disagrees where one disagrees, not comparable where none can be judged yet, else
+    undecided; with the scale reached."""
     said = [x["verdict"] for x in v["sec4"]]
-    label = ("agrees" if all(w == "agrees" for w in said) else
+    label = ("not comparable" if all(w == "not comparable" for w in said) else
+             "agrees" if all(w == "agrees" for w in said) else
              "disagrees" if "disagrees" in said else "undecided")
     counts = ", ".join(f"{said.count(w)} {w}" for w in SHORT)
     return Verdict(label, f"{counts} of Sec. 4's statements at the scale reached ({reached(v)})")
