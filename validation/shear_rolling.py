@@ -324,9 +324,8 @@ def event_frames(folder, lo, hi):
     return _Window(series, Frames.concat(parts) if len(parts) > 1 else parts[0], lo)
 
 
-def arrays(folder):
-    """(series (T, 6), per-step arrays, the last frame, member record, merged code units)."""
-    from fricstab.analysis.shear import PER_STEP
+def _loaded(folder):
+    """(member record, its stored segments, each checked fresh)."""
     rec = _member_json(folder)
     if rec is None:
         raise SystemExit(f"{folder}: no member.json (run it first: python "
@@ -334,20 +333,30 @@ def arrays(folder):
     done = _load_all(folder)
     if not done:
         raise SystemExit(f"{folder}: no segment stored yet")
+    return rec, done
+
+
+def _arrays_of(rec, done):
+    from fricstab.analysis.shear import PER_STEP
     series = np.concatenate([d["series"] for d in done])
     steps = {n: np.concatenate([d[f"step_{n}"] for d in done]) for n in PER_STEP}
     units = {}
     for d in done:
         units = _stamped.merge(units, _stamped.units_of(d))
-    meta = {"scene": rec["parameters"]}
-    return series, steps, _last_frame(done[-1], meta), rec, units
+    return series, steps, _last_frame(done[-1], {"scene": rec["parameters"]}), rec, units
 
 
-def analysis(folder, gamma0=None):
+def arrays(folder):
+    """(series (T, 6), per-step arrays, the last frame, member record, merged code units)."""
+    return _arrays_of(*_loaded(folder))
+
+
+def analysis(folder, gamma0=None, got=None):
     """The analysis of the stored frames of a member from ``gamma0`` (default: the run's),
-    and its series: ``(ShearAnalysis, series, record)``."""
+    and its series: ``(ShearAnalysis, series, record)``; ``got``: :func:`arrays` of the
+    member, where the caller has them already."""
     from fricstab.analysis.shear import analyze
-    series, steps, last, rec, _ = arrays(folder)
+    series, steps, last, rec, _ = got or arrays(folder)
     g0 = rec["parameters"]["gamma0"] if gamma0 is None else gamma0
     previous = {"strain": series[:, 1], "tau": series[:, 4], **steps}
     return analyze(_Window(series, last, len(series) - 1), g0, progress=False, previous=previous), series, rec
@@ -373,13 +382,14 @@ def export(folder, dest, log=print):
     (``shear.json``).  The records name this checkout's revision: every segment is checked
     fresh under its code (:func:`arrays`)."""
     from fricstab.analysis.stationarity import steady_window
-    series, steps, last, rec, _ = arrays(folder)
-    segs = _load_all(folder)
+    rec, segs = _loaded(folder)
+    got = _arrays_of(rec, segs)
+    series, _, last, _, _ = got
     params = rec["parameters"]
     n_frames = int(round(params["strain"] / params["dgamma"]))
     finished = len(series) == n_frames + 1
     start, info = steady_window(series[:, 1], series[:, 4], params["gamma0"])
-    res, _, _ = analysis(folder, start)
+    res, _, _ = analysis(folder, start, got)
     dest = Path(dest)
     dest.mkdir(parents=True, exist_ok=True)
     git = _revision()
