@@ -184,6 +184,62 @@ def test_reuse_of_an_earlier_partial_analysis_is_bit_identical(run_dir, tmp_path
     assert "--reuse" in err and "strain and tau differ" in err and not (tmp_path / "p4").exists()
 
 
+def test_gamma0_steady_is_the_steady_window_of_the_runs_tau(run_dir, tmp_path, capsys):
+    """--gamma0 steady analyses from steady_window's start on the run's tau from its gamma0
+    (kept in the record with its test), to the bit the analysis given that start as a
+    number; a misspelt word is bad input naming both forms."""
+    from fricstab.analysis.stationarity import steady_window
+    out = tmp_path / "run"
+    shutil.copytree(run_dir, out)
+    frames = frames_of(out)
+    start, info = steady_window(frames.strain, frames.tau, 0.002)   # SMALL's gamma0
+    capsys.readouterr()
+    assert main(["shear", "analyze", "--out", str(out), "--no-progress", "--no-spectra",
+                 "--force", "--gamma0", "steady"]) == 0
+    said = capsys.readouterr()
+    rec = json.loads((out / "analysis.json").read_text())
+    assert rec["parameters"]["gamma0"] == start >= 0.002
+    assert rec["parameters"]["steady"] == json.loads(json.dumps(info))
+    if info["steady"]:
+        assert f"steady start: strain {start:.6g}" in said.out
+    else:
+        assert "fricstab: warning: tau is not steady" in said.err
+    with np.load(out / "analysis.npz") as z:
+        steady = {k: z[k] for k in z.files}
+    again = tmp_path / "again"
+    shutil.copytree(run_dir, again)
+    assert main(["shear", "analyze", "--out", str(again), "--no-progress", "--no-spectra",
+                 "--force", "--gamma0", repr(start)]) == 0
+    with np.load(again / "analysis.npz") as z:
+        assert set(z.files) == set(steady)
+        for k in z.files:
+            np.testing.assert_array_equal(z[k], steady[k], err_msg=k)
+    capsys.readouterr()
+    assert main(["shear", "analyze", "--out", str(out), "--gamma0", "stedy"]) == 2
+    err = capsys.readouterr().err
+    assert "must be a number" in err and "'steady'" in err
+
+
+def test_gamma0_steady_says_which_way_the_test_went(capsys):
+    """Both branches of --gamma0 steady's message: a level series starts where the test
+    accepts (on stdout), a drift to the end falls back to gamma0 with a warning on stderr."""
+    from types import SimpleNamespace
+
+    from fricstab.cli.shear_analyze import _steady
+    rng = np.random.default_rng(3)
+    strain = np.linspace(0.0, 0.1, 2000)
+    level = SimpleNamespace(strain=strain, tau=0.2 + 0.01 * rng.normal(size=2000))
+    start, info = _steady(level, 0.01)
+    said = capsys.readouterr()
+    assert info["steady"] and start == pytest.approx(0.01, abs=1e-4)
+    assert said.out.startswith("steady start: strain") and said.err == ""
+    drift = SimpleNamespace(strain=strain, tau=strain + 1e-4 * rng.normal(size=2000))
+    start, info = _steady(drift, 0.01)
+    said = capsys.readouterr()
+    assert start == 0.01 and not info["steady"] and said.out == ""
+    assert "warning: tau is not steady" in said.err and "extend the run" in said.err
+
+
 def test_analyze_without_a_run_is_bad_input(tmp_path, capsys):
     assert main(["shear", "analyze", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err

@@ -127,6 +127,36 @@ def test_resume_recomputes_only_the_missing_member(tmp_path, monkeypatch, capsys
     assert "already holds a complete result" in capsys.readouterr().err
 
 
+def test_window_steady_analyses_each_member_from_its_steady_start(local, tmp_path):
+    """--window steady: each member analysed from steady_window's start on its own tau (kept
+    as window_start, its verdict as steady), the same run as the default sweep's member but
+    another member file (the window is in its fingerprint)."""
+    from fricstab.analysis.shear import analyze
+    from fricstab.analysis.stationarity import steady_window
+    from fricstab.cli.shear_analyze import frames_of
+    out = tmp_path / "s"
+    assert _sweep(out, "--mus", "0.3", "--scheduler", "inline", "--window", "steady") == 0
+    rec = json.loads((out / "sweep.json").read_text())
+    assert rec["parameters"]["window"] == "steady"
+    run = out / "runs" / "mus0.3_seed0"
+    with np.load(run / "shear.npz") as z:
+        start, info = steady_window(z["strain"], z["tau"], SCENE["gamma0"])
+    (member,) = (out / "members").glob("*.npz")
+    stored = load_member(member)
+    assert float(stored["window_start"]) == start >= SCENE["gamma0"]
+    assert float(stored["steady"]) == float(info["steady"])
+    res = analyze(frames_of(run), start, progress=False)
+    for name in ("n_phases", "n_slip", "phases_per_step"):
+        assert float(stored[name]) == float(res.summary[name]), name
+    q = rec["results"][0]["quantities"]
+    assert q["window_start"]["values"] == [start]
+    default = load_member(next((local / "members").glob("mus0.3_seed0_*.npz")))
+    assert member.name != next((local / "members").glob("mus0.3_seed0_*.npz")).name
+    assert float(default["window_start"]) == SCENE["gamma0"] and np.isnan(default["steady"])
+    with np.load(local / "runs" / "mus0.3_seed0" / "shear.npz") as z:
+        np.testing.assert_array_equal(z["tau"], np.load(run / "shear.npz")["tau"])
+
+
 @pytest.mark.parametrize("mus, key", [(["0"], "--mus"), (["-1"], "--mus"), (["nan"], "--mus"),
                                       (["text"], "--mus"), (["0.3", "0.3"], "--mus 0.3"),
                                       (["inf"], "--mus")])

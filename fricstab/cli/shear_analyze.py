@@ -1,6 +1,6 @@
 """``fricstab shear analyze|export``: analyses, slip spectra and OVITO export of a shear run.
 
-``fricstab shear analyze --out DIR [--gamma0 G] [--force] [--no-spectra] [--spectra R] [--partial DIR2] [--reuse DIR3]``
+``fricstab shear analyze --out DIR [--gamma0 G|steady] [--force] [--no-spectra] [--spectra R] [--partial DIR2] [--reuse DIR3]``
     D2min, GR regions, phases and Spearman tables of the frames in DIR
     (:func:`fricstab.analysis.shear.analyze`), then the spectrum of the
     Jacobian before each slip (:func:`fricstab.analysis.shear_slips.slip_spectra`)
@@ -18,6 +18,12 @@
     analyses and slip spectra of an earlier analysis of the run's first
     frames (a ``--partial`` one) and computes only the frames after them:
     the same result to the bit, checked by its strain and tau series.
+    ``--gamma0 steady`` starts the window where tau is steady: the earliest
+    strain from the run's gamma0 on from which the Mann-Kendall test on 20
+    block means of tau does not reject at 0.05
+    (:func:`fricstab.analysis.stationarity.steady_window`); where none does,
+    the run's gamma0 with a warning to extend the run.  The test and the start
+    are kept in ``analysis.json`` (``parameters.steady``).
 ``fricstab shear export --out DIR [--format extxyz|lammps] [--every K] [--force]``
     The frames for OVITO (:func:`fricstab.io.export.frames_to_ovito`).
 """
@@ -85,13 +91,28 @@ def _strain(text):
     return value
 
 
+def _gamma0(text):
+    """--gamma0: a strain (:func:`_strain`) or ``steady`` (the steady start)."""
+    import argparse
+    if text.strip().lower() == "steady":
+        return "steady"
+    try:
+        return _strain(text)
+    except argparse.ArgumentTypeError as exc:
+        raise argparse.ArgumentTypeError(f"{exc}, or 'steady' (the start of the steady "
+                                         "window)") from None
+
+
 def add_analyze_parsers(s):
     """``analyze`` and ``export`` on the shear subparsers ``s``."""
     from fricstab.cli import _int_at_least
     a = s.add_parser("analyze", help="D2min, GR regions, phases, Spearman tables of a run")
     a.add_argument("--out", type=Path, required=True, metavar="DIR", help="a `shear run` DIR")
-    a.add_argument("--gamma0", type=_strain, default=None,
-                   help="start of the analysed window (default: the run's gamma0)")
+    a.add_argument("--gamma0", type=_gamma0, default=None, metavar="G|steady",
+                   help="start of the analysed window (default: the run's gamma0); "
+                        "'steady': the earliest strain from the run's gamma0 on from which "
+                        "tau passes the Mann-Kendall trend test on 20 block means (alpha "
+                        "0.05), the run's gamma0 with a warning where none does")
     a.add_argument("--force", action="store_true", help="overwrite analysis.json/.npz")
     a.add_argument("--partial", type=Path, default=None, metavar="DIR2",
                    help="analyse the frames an interrupted or still running run has written "
@@ -145,13 +166,21 @@ def analyze(ns, argv):
     else:
         run = json.loads((out / "shear.json").read_text())
         params, dest = _run_parameters(out, run, frames), out
-    gamma0 = _recorded_gamma0(params, out, partial) if ns.gamma0 is None else ns.gamma0
+    steady = None
+    if ns.gamma0 is None or ns.gamma0 == "steady":
+        gamma0 = _recorded_gamma0(params, out, partial)
+        if ns.gamma0 == "steady":
+            gamma0, steady = _steady(frames, gamma0)
+    else:
+        gamma0 = ns.gamma0
     if not (math.isfinite(gamma0) and gamma0 >= 0):
         raise ParameterError(f"--gamma0 must be a finite number >= 0, got {gamma0!r}")
     from fricstab.analysis.shear_spectrum import SOFT_K, check_window
     k = SOFT_K if ns.spectra_k is None else check_window(ns.spectra_k, "--spectra-k")
     setting = {"gamma0": gamma0, "spectra": None if ns.no_spectra else ns.spectra,
                "spectra_k": k, "run": run.get("fingerprint", {}).get("sha256")}
+    if steady is not None:
+        setting["steady"] = steady
     if partial:
         setting.update(frames=frames.n_frames, strain=float(frames.strain[-1]))
     previous = _previous(ns.reuse, setting, frames) if ns.reuse is not None else None
@@ -191,6 +220,25 @@ def analyze(ns, argv):
     print(f"analysis: {s.get('n_phases')} phases in {s.get('n_steps')} steps{extra}; wrote "
           f"{dest}/analysis.json, analysis.npz, analysis.md, analysis_*.png")
     return 0
+
+
+def _steady(frames, gamma0):
+    """``--gamma0 steady``: the start of the steady window of the run's tau from ``gamma0``
+    on (:func:`fricstab.analysis.stationarity.steady_window`) and the test's record; a
+    warning on stderr where no start passes."""
+    from fricstab.analysis.stationarity import steady_window
+    start, info = steady_window(frames.strain, frames.tau, gamma0)
+    lag = info.get("block_lag1", 0.0)
+    memory = (f"; block lag-1 {lag:.2f} > 0.5: the blocks are shorter than tau's memory, "
+              "so the test rejects too often" if lag > 0.5 else "")
+    if info["steady"]:
+        print(f"steady start: strain {start:.6g} (Mann-Kendall on 20 block means of tau from "
+              f"there: p = {info['p']:.2g}, drift {info['drift_over_std']:+.2g} std{memory})")
+    else:
+        print(f"fricstab: warning: tau is not steady from strain {gamma0:g} on "
+              f"({info['reason']}{memory}); analysed from gamma0 = {gamma0:g}, a drifting "
+              "state", file=sys.stderr)
+    return start, info
 
 
 def _run_parameters(out, run, frames):

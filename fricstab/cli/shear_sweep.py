@@ -1,11 +1,15 @@
 """``fricstab shear sweep``: the friction sweep of Lee & Hurley Sec. 4 as a dask ensemble.
 
 ``fricstab shear sweep --out DIR [--mus 0.1 0.3 0.5 0.7] [--seeds K] [--seed S]
-[--scheduler local|inline|tcp://HOST:PORT] [--workers N] [--resume] [scene options]``
+[--scheduler local|inline|tcp://HOST:PORT] [--workers N] [--window gamma0|steady] [--resume]
+[scene options]``
     One member per (mu_s, seed), seeds S..S+K-1 (default 0 only): a full
     ``shear run`` of the scene (the options of ``shear run``, with ``--param
     mus`` set from ``--mus``) in ``DIR/runs/mus<M>_seed<S>/`` (M as Python's
-    ``repr``), then :func:`fricstab.analysis.shear.analyze` on its frames.
+    ``repr``), then :func:`fricstab.analysis.shear.analyze` on its frames
+    from the run's gamma0 or (``--window steady``) from the start of tau's
+    steady window (:func:`fricstab.analysis.stationarity.steady_window`, as
+    ``shear analyze --gamma0 steady``), each member's start and test kept.
     Members run through :func:`fricstab.io.ensemble.run_ensemble` on a local
     cluster, in this process (``inline``) or on a running dask scheduler, whose
     workers must see DIR at the same path.  Each member's numbers are stored
@@ -33,14 +37,17 @@ __all__ = ["QUANTITIES", "add_sweep_parser", "member_arrays", "sweep", "sweep_me
 DEFAULT_MUS = (0.1, 0.3, 0.5, 0.7)
 #: The quantities of a member that the tables summarise over seeds, and what each is.
 QUANTITIES = {
-    "phases_per_step": "stick and slip phases per output step, strain >= gamma0",
-    "n_phases": "stick and slip phases, strain >= gamma0",
-    "n_slip": "slip phases (tau drops), strain >= gamma0",
-    "largest_drop": "change of tau over the largest slip (< 0), strain >= gamma0",
-    "slip_abs_dtau_mean": "mean |change of tau| over the slips, strain >= gamma0",
+    "phases_per_step": "stick and slip phases per output step in the window",
+    "n_phases": "stick and slip phases in the window",
+    "n_slip": "slip phases (tau drops) in the window",
+    "largest_drop": "change of tau over the largest slip (< 0) in the window",
+    "slip_abs_dtau_mean": "mean |change of tau| over the slips in the window",
+    "window_start": "strain where the analysed window starts (gamma0, or the steady start)",
+    "steady": "1 if tau is steady from the window start (the trend test of --window steady), "
+              "0 if not; not defined with --window gamma0",
     "tau_mean_half": "mean of tau = S/N over the second half of the strain",
     "tau_sd_half": "standard deviation of tau over the second half of the strain",
-    "servo_rms_window": "rms relative error of N, strain >= gamma0",
+    "servo_rms_window": "rms relative error of N, strain >= gamma0 (the run's record)",
 }
 #: Keys of an analysis summary stored with each member (None there: NaN here).
 _SUMMARY = ("n_steps", "n_phases", "n_stick", "n_slip", "phases_per_step",
@@ -69,6 +76,11 @@ def add_sweep_parser(sub, scene_options, positive_float):
     r.add_argument("--workers", type=_count(1, 1024), default=None,
                    help="worker processes of the local cluster (default: CPU count, at most "
                         "the members to run)")
+    r.add_argument("--window", choices=("gamma0", "steady"), default="gamma0",
+                   help="the analysed window of each member: from the run's gamma0 "
+                        "(default) or from the start of tau's steady window (the trend test "
+                        "of `shear analyze --gamma0 steady`; gamma0 where no start passes, "
+                        "with 'steady' 0 in the tables)")
     r.add_argument("--resume", action="store_true",
                    help="continue an interrupted sweep in --out (same parameters): stored "
                         "members are kept, interrupted member runs continue from their "
@@ -109,23 +121,31 @@ def _release(results, out):
             rd.close()
 
 
-def sweep_member(params, out, run_shear):
+def sweep_member(params, out, run_shear, window="gamma0"):
     """One member (module level, for dask): run the shear in ``out`` by ``run_shear``
-    (:func:`fricstab.cli.shear.run_shear`, pickled by reference), analyze; small arrays."""
+    (:func:`fricstab.cli.shear.run_shear`, pickled by reference), analyze from the run's
+    gamma0 or (``window="steady"``) from tau's steady start; small arrays."""
     from fricstab.analysis.shear import analyze
+    from fricstab.analysis.stationarity import steady_window
     from fricstab.cli.shear_analyze import frames_of
     rec = _run_or_resume(params, out, run_shear)
-    res = analyze(frames_of(out), params["gamma0"], progress=False)
     with np.load(Path(out) / "shear.npz", allow_pickle=False) as z:
         strain, tau = z["strain"], z["tau"]
-    return member_arrays(params, rec, res.summary, strain, tau)
+    start, steady = params["gamma0"], None
+    if window == "steady":
+        start, info = steady_window(strain, tau, start)
+        steady = info["steady"]
+    res = analyze(frames_of(out), start, progress=False)
+    return member_arrays(params, rec, res.summary, strain, tau, start, steady)
 
 
-def member_arrays(params, rec, summary, strain, tau):
+def member_arrays(params, rec, summary, strain, tau, start=None, steady=None):
     """A member's arrays: its mu_s and seed, the analysis summary, tau over the second half.
 
     Only what the parameters fix (no timings), so that a member is the same
-    wherever it ran.  Undefined values (no slip, an empty window) are NaN.
+    wherever it ran.  Undefined values (no slip, an empty window) are NaN.  ``start``:
+    where the analysed window starts (default the run's gamma0); ``steady``: the trend
+    test's verdict there (None: not tested).
     """
     half = strain >= 0.5 * strain[-1]
     out = {"mus": np.float64(params["law_params"]["mus"]), "seed": np.int64(params["seed"]),
@@ -133,7 +153,9 @@ def member_arrays(params, rec, summary, strain, tau):
            "tau_mean_half": np.float64(tau[half].mean()),
            "tau_sd_half": np.float64(tau[half].std()),
            "tau_mean_window": _f(rec["tau_mean_window"]),
-           "servo_rms_window": _f(rec["quality"]["servo_rms_window"])}
+           "servo_rms_window": _f(rec["quality"]["servo_rms_window"]),
+           "window_start": np.float64(params["gamma0"] if start is None else start),
+           "steady": _f(None if steady is None else float(steady))}
     out.update({k: _f(summary[k]) for k in _SUMMARY})
     if not summary["n_slip"]:   # the analysis's "largest drop" is then a stick's rise
         out["largest_drop"] = np.float64(np.nan)
@@ -200,7 +222,8 @@ def sweep(ns, argv, shear):
     estimate = budget.shear(base, count=len(params), dry_run=ns.dry_run)  # one thread
     common = {k: v for k, v in base.items() if k not in ("seed", "law_params")}
     common["law_params"] = {k: v for k, v in base["law_params"].items() if k != "mus"}
-    protocol = {"mus": mus, "seeds": seeds}
+    protocol = {"mus": mus, "seeds": seeds, **({"window": "steady"} if ns.window == "steady"
+                                               else {})}
     if ns.dry_run:
         print(json.dumps({**common, **protocol, "estimate": estimate}, indent=2))
         return 0
@@ -210,9 +233,12 @@ def sweep(ns, argv, shear):
     rd.register("members", folder=True)
     rd.register("runs", folder=True)
     root = rd.path.absolute()   # the workers of a remote scheduler get absolute paths
-    keys = {ms: member_key(_label(*ms), _fingerprint(params[ms])) for ms in params}
+    steady = {"window": "steady"} if ns.window == "steady" else {}
+    keys = {ms: member_key(_label(*ms), {**_fingerprint(params[ms]), **steady})
+            for ms in params}
     members = {keys[ms][0]: {"params": params[ms], "out": str(root / "runs" / _label(*ms)),
-                             "run_shear": shear["run_shear"]} for ms in params}
+                             "run_shear": shear["run_shear"], "window": ns.window}
+               for ms in params}
     loud = not ns.no_progress
     with rd.stage("members"), progress.heartbeat(   # tqdm's bar: on a terminal only
             "shear sweep: members", loud and not sys.stderr.isatty()):
@@ -243,7 +269,8 @@ def summarize(members):
     """
     out = {"seeds": [int(m["seed"]) for m in members], "quantities": {}}
     for name in QUANTITIES:
-        v = np.array([float(m[name]) for m in members])
+        # a member stored before a quantity existed: not defined there
+        v = np.array([float(m[name]) if name in m else math.nan for m in members])
         ok = v[np.isfinite(v)]
         out["quantities"][name] = {
             "values": [float(x) if math.isfinite(x) else None for x in v],
