@@ -308,6 +308,53 @@ def sign_change(table):
     return rows
 
 
+#: "G_NA ~= 0" read off a figure: within this fraction of the figure's range of G_NA (the
+#: per-phi means over every plotted kT/kN and phi): half a plotted marker (a 3 mm marker on an
+#: 8 cm axis is ~4 % of it), so a point this close to zero sits on the zero line
+FIG_ZERO = 0.02
+
+
+def sign_figure(table):
+    """Fig. 6 read as the figure shows it (G_NA against phi at fixed kT/kN, no root): per phi,
+    the sign of the mean G_NA at each kT/kN > 0 of the grid against the paper's (negative
+    below 2.0, positive above; 'as the paper' or 'opposite' beyond 2 s.e., else 'unresolved')
+    and |mean G_NA(2.0)| over the figure's range.  Agrees at a phi when no sign is opposite
+    and |G_NA(2.0)| <= FIG_ZERO of the range."""
+    kts = [k for k in RIG_KTS if k > 0]
+    means = [t["g_na"][RIG_KTS.index(k)]["mean"] for t in table.values() for k in kts]
+    means = [m for m in means if m is not None]
+    if not means:
+        return {"range": None, "tol": FIG_ZERO, "rows": {}}
+    span = max(means) - min(means)
+    rows = {}
+    for phi, t in table.items():
+        signs, short = {}, []
+        for k in kts:
+            m = t["g_na"][RIG_KTS.index(k)]
+            if k == PAPER_ROOT:
+                continue
+            if m["count"] < 2:
+                short.append(k)
+                continue
+            want = 1.0 if k > PAPER_ROOT else -1.0
+            signs[f"{k:g}"] = ("as the paper" if want * m["mean"] > 2 * m["se"] else
+                               "opposite" if want * m["mean"] < -2 * m["se"] else "unresolved")
+        at2 = t["g_na"][RIG_KTS.index(PAPER_ROOT)]
+        if short or at2["count"] < 2:
+            rows[phi] = {"signs": signs, "at_2": at2["mean"], "at_2_over_range": None,
+                         "label": "not comparable", "why": "fewer than 2 packings"}
+            continue
+        frac = abs(at2["mean"]) / span if span > 0 else float("inf")
+        bad = sorted((k for k, v in signs.items() if v == "opposite"), key=float)
+        ok = not bad and frac <= FIG_ZERO
+        rows[phi] = {"signs": signs, "at_2": at2["mean"], "at_2_se": at2["se"],
+                     "at_2_over_range": frac, "label": "agrees" if ok else "disagrees",
+                     "why": (f"|G_NA(2.0)| = {frac:.1%} of the figure's range (agree if <= "
+                             f"{FIG_ZERO:.0%})" + (f"; opposite sign at kT/kN = "
+                                                   f"{', '.join(bad)}" if bad else ""))}
+    return {"range": span, "tol": FIG_ZERO, "rows": rows}
+
+
 def proportional_test(table, kt):
     """'G is not proportional to phi - phi_c for a large kT/kN': a straight line through the
     per-phi means of G (weights 1/se^2), its chi^2 and p (small p: not a straight line)."""
@@ -565,7 +612,7 @@ def analyse(got, tier):
                      "excluded": [r for r in rows if not r["use"]]},
         "rig_kts": list(RIG_KTS), "check_kts": list(CHECK_KTS),
         "fig4": fig4, "fig5": fig5,
-        "sign_change": sign_change(fig4),
+        "sign_change": sign_change(fig4), "sign_figure": sign_figure(fig4),
         "linear": [proportional_test(fig4, k) for k in (0.0, 1.0, big)],
         "factorisation": [factorisation_test(tab, k, n) for n, tab in
                           ((n4, fig4),) + (((nd, fig5),) if nd != n4 else ())
@@ -622,6 +669,24 @@ def report(doc, done, total, stamp):
     for phi, r in doc["sign_change"].items():
         L.append(f"| {phi} | {_f(r)} | {'-' if r['se'] is None else format(r['se'], '.2g')} | "
                  f"**{r['label']}** ({r['why']}) |")
+    sf = doc["sign_figure"]
+    if sf["rows"]:
+        signed = [f"{k:g}" for k in RIG_KTS if k > 0 and k != PAPER_ROOT]
+        L += ["", "The same statement read as Fig. 6 shows it (G_NA against phi at fixed "
+              "kT/kN, no root): the sign of the mean G_NA at each kT/kN of the grid (ok: the "
+              "paper's, - below 2.0 and + above, beyond 2 s.e.; !: opposite; ?: unresolved) and |G_NA(2.0)| "
+              f"against the figure's range of G_NA ({sf['range']:.3g}); ~= 0 if within "
+              f"{sf['tol']:.0%} of it (half a plotted marker).", "",
+              "| phi | signs at kT/kN = " + ", ".join(signed) + " | G_NA(2.0) | of the range "
+              "| verdict |", "|---|---|---|---|---|"]
+        mark = {"as the paper": "ok", "opposite": "!", "unresolved": "?"}
+        for phi, r in sf["rows"].items():
+            frac = r["at_2_over_range"]
+            L.append(f"| {phi} | " + " ".join(mark[r["signs"][k]] if k in r["signs"] else "-"
+                                               for k in signed)
+                     + f" | {'-' if r['at_2'] is None else format(r['at_2'], '+.3g')} | "
+                     f"{'-' if frac is None else format(frac, '.1%')} | **{r['label']}** "
+                     f"({r['why']}) |")
     # (column, the field it needs, its text): "-" where a test had too few groups to run
     for key, title, cols in (
             ("linear", "G against phi: a straight line (G proportional to phi - phi_c)?",

@@ -38,7 +38,8 @@ def test_the_report_says_how_far_it_got_and_lists_every_figure(quick):
     doc, base = quick
     md = (base / "out" / "ishima_paper_quick.md").read_text()
     assert doc["pieces_done"] == doc["pieces_total"] and "(complete)" in md
-    for head in ("## Ensemble", "Fig. 4", "Fig. 5", "Fig. 6", "Bands (Figs. 7-9)",
+    for head in ("## Ensemble", "Fig. 4", "Fig. 5", "Fig. 6", "read as Fig. 6 shows it",
+                 "Bands (Figs. 7-9)",
                  "Fig. 7 b2", "Fig. 10", "Fig. 14", "Fig. 16", "Factorisation"):
         assert head in md, head
     assert (base / "out" / "ishima_paper_quick.png").stat().st_size > 10_000
@@ -111,6 +112,41 @@ def test_the_sign_change_of_g_na_per_phi_against_its_spread(quick):
         r = doc["sign_change"][phi]
         assert r["count"] == len(t["seeds"])
         assert math.fabs(r["mean"] - 2.0) <= 3 * math.hypot(r["se"], 0.05), (phi, r)
+
+
+def _na_table(curves, se=1e-4, count=5):
+    """A rigidity table of per-phi G_NA means (``curves[phi](kT)``) with one s.e."""
+    ms = lambda m: {"mean": m, "sd": se * math.sqrt(count), "se": se, "count": count}  # noqa: E731
+    return {phi: {"g_na": [ms(f(k)) for k in ip.RIG_KTS]} for phi, f in curves.items()}
+
+
+def test_the_figure_reading_of_the_sign_change():
+    """Fig. 6 read as a figure: a phi whose root sits at 3 (G_NA(2.0) small against the
+    figure's range, every grid sign the paper's) agrees; G_NA(2.0) beyond 2 % of the range,
+    or a sign opposite the paper's beyond 2 s.e., disagrees; a sign within 2 s.e. of zero is
+    'unresolved' and does not; too few packings is not comparable."""
+    base = lambda k: -0.05 + 0.02 * k           # noqa: E731  range over the grid: 0.25
+    tab = _na_table({"0.84": lambda k: 0.001 * (k - 3.0),    # root 3, G_NA(2) = -0.001
+                     "0.9": base})
+    f = ip.sign_figure(tab)
+    assert f["range"] == pytest.approx(base(10.0) - base(1e-8))
+    r = f["rows"]["0.84"]
+    assert r["label"] == "agrees" and r["at_2_over_range"] == pytest.approx(0.001 / f["range"])
+    assert r["signs"]["1"] == "as the paper" and r["signs"]["5"] == "as the paper"
+    assert f["rows"]["0.9"]["signs"]["1"] == "as the paper"   # -0.03 < -2 s.e.
+    # G_NA(2.0) at 4 % of the range: not ~= 0 on the figure
+    far = ip.sign_figure(_na_table({"0.84": lambda k: -0.01 if k == 2.0 else base(k),
+                                    "0.9": base}))
+    assert far["rows"]["0.84"]["label"] == "disagrees" and "of the figure's range" in \
+        far["rows"]["0.84"]["why"]
+    # a sign opposite the paper's at kT/kN = 5 beyond 2 s.e.; one within 2 s.e. is unresolved
+    odd = ip.sign_figure(_na_table({"0.84": lambda k: -0.001 if k == 5.0 else
+                                    (1e-4 if k == 1.0 else base(k)), "0.9": base}))
+    r = odd["rows"]["0.84"]
+    assert r["signs"]["5"] == "opposite" and r["signs"]["1"] == "unresolved"
+    assert r["label"] == "disagrees" and "opposite sign at kT/kN = 5" in r["why"]
+    few = ip.sign_figure(_na_table({"0.84": base}, count=1))
+    assert few["rows"]["0.84"]["label"] == "not comparable"
 
 
 def test_every_paper_claim_shows_and_judges_the_quick_values(quick):

@@ -57,7 +57,8 @@ def values_of(doc):
         "routes": {phi: {"modes": t["modes_vs_solve"], "step": t["step_vs_solve"],
                          "step_over_model": t["step_over_model"]}
                    for phi, t in doc["fig4"].items()},
-        "sign_change": doc["sign_change"], "linear": doc["linear"],
+        "sign_change": doc["sign_change"], "sign_figure": doc["sign_figure"],
+        "linear": doc["linear"],
         "factorisation": doc["factorisation"], "limit": doc["limit"],
         "bands": {k: {key: {f: r[f] for f in ("phi", "kt", "band", "dos_band", "classes",
                                               "paper", "samples")}
@@ -114,6 +115,34 @@ def _sign_verdict(v):
     return Verdict("disagrees" if bad else "agrees",
                    f"distance of the mean root from 2.0 in combined s.e. ({d}); agree if every "
                    "phi <= 2" + (f"; not comparable at {', '.join(na)}" if na else ""))
+
+
+def _figure_show(v):
+    f = v["sign_figure"]
+    rows = f["rows"]
+    if not rows:
+        return "no G_NA computed"
+    opposite = sorted({k for r in rows.values() for k, x in r["signs"].items()
+                       if x == "opposite"}, key=float)
+    return ("G_NA(2.0) / range: " + ", ".join(
+        f"{phi} {'-' if r['at_2_over_range'] is None else format(r['at_2_over_range'], '.1%')}"
+        for phi, r in rows.items()) + f" (range {f['range']:.3g}); signs at kT/kN != 2 "
+        + ("as the paper at every phi" if not opposite else
+           f"opposite at kT/kN = {', '.join(opposite)}") + f"; {_scale(v)}")
+
+
+def _figure_verdict(v):
+    rows = v["sign_figure"]["rows"]
+    made = {phi: r for phi, r in rows.items() if r["label"] != "not comparable"}
+    if not made:
+        return Verdict("not comparable", "no phi with two packings")
+    worst = max(r["at_2_over_range"] for r in made.values())
+    bad = [phi for phi, r in made.items() if r["label"] == "disagrees"]
+    return Verdict("disagrees" if bad else "agrees",
+                   f"largest |G_NA(2.0)| {worst:.1%} of the figure's range; agree if every phi "
+                   f"<= {v['sign_figure']['tol']:.0%} (half a plotted marker) with no sign opposite "
+                   "the paper's beyond 2 s.e." + (f"; disagrees at phi = {', '.join(bad)}"
+                                                   if bad else ""))
 
 
 def _g_show(v):
@@ -259,10 +288,11 @@ def _fig16_verdict(v):
 
 def claims():
     def c(short, title, paper, show, verdict, n1024=False):
+        said = lambda v: (lambda x: f"**{x.label}** ({x.detail})")(verdict(v))  # noqa: E731
         return Claim(f"packing.paper_{short}", "packing", title, "hours",
                      COMMAND_1024 if n1024 else COMMAND, compute_1024 if n1024 else compute,
                      show, TOL, _check, paper=paper, verdict=verdict,
-                     job=JOB_1024 if n1024 else JOB)
+                     job=JOB_1024 if n1024 else JOB, texts={"verdict": said})
     fig16 = ("\"the rotational band shifts to a lower frequency region and the plateau of the "
              "translational band becomes longer as the density approaches the jamming point\"")
     bands = ("gap for 1e-10 <= kT/kN <= 1e-8, partial overlap for 1e-6..1e-2, merged for >= "
@@ -272,6 +302,11 @@ def claims():
           "(N = 1,024, 5 packings per phi)", "\"G_NA is positive for k_T/k_N > 2.0, G_NA ~= 0 "
           "at k_T/k_N = 2.0, and G_NA is negative for k_T/k_N < 2.0\"", _sign_show,
           _sign_verdict, n1024=True),
+        c("sign_figure", "Fig. 6 read as the figure shows it: the sign of G_NA at each "
+          "kT/kN of the grid and G_NA(2.0) against the figure's range, per phi (N = 1,024, 5 "
+          "packings per phi)", "\"G_NA is positive for k_T/k_N > 2.0, G_NA ~= 0 at k_T/k_N "
+          "= 2.0, and G_NA is negative for k_T/k_N < 2.0\" (read off Fig. 6: G_NA against "
+          "phi at fixed k_T/k_N)", _figure_show, _figure_verdict, n1024=True),
         c("g_phi", "Fig. 4 at the paper's scale: G against phi, and mode sum / step strain "
           "against the solve (N = 1,024)", "\"quantitative agreement between the theoretical "
           "and numerical values\" (Fig. 4)", _g_show, _routes_verdict, n1024=True),
