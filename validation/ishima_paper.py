@@ -686,7 +686,7 @@ def report(doc, done, total, stamp):
                                                for k in signed)
                      + f" | {'-' if r['at_2'] is None else format(r['at_2'], '+.3g')} | "
                      f"{'-' if frac is None else format(frac, '.1%')} | **{r['label']}** "
-                     f"({r['why']}) |")
+                     f"({r['why'].replace('|', chr(92) + '|')}) |")   # |x| would split the cell
     # (column, the field it needs, its text): "-" where a test had too few groups to run
     for key, title, cols in (
             ("linear", "G against phi: a straight line (G proportional to phi - phi_c)?",
