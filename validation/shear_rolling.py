@@ -36,6 +36,7 @@ continues the same trajectory from the stored state; the machine of each segment
 Usage::
 
     python validation/shear_rolling.py run --mus 0.7 [0.5 ...] [--seed 0] [--preset paper] [--max-hours H]
+    python validation/shear_rolling.py run --mus 0.7 --strain 0.16   # extend: tau not levelled
     python validation/shear_rolling.py status
     python validation/shear_rolling.py export --out DIR    # then shear_sweep_paper.py DIR
 """
@@ -59,6 +60,7 @@ import numpy as np  # noqa: E402
 import _stamped  # noqa: E402
 from fricstab.cli.shear import SERIES  # noqa: E402  (time, strain, N, S, tau, height)
 from fricstab.io.frames import Frames  # noqa: E402
+from fricstab.errors import ParameterError  # noqa: E402
 
 STORE = HERE / "runs" / "shear_rolling"
 SEGMENT = 5_000          # output frames per segment: ~12 min at the paper's scale on one core
@@ -232,13 +234,19 @@ def frames_of_segment(folder, i):
 def run(mus, seed=0, preset="paper", segment=SEGMENT, max_hours=None, restart=False,
         store=STORE, overrides=None, log=print):
     """Run (or go on with) the member (mu_s, seed) until its strain or ``max_hours``; returns
-    the number of frames stored."""
-    params = member_params(mus, seed, preset, **(overrides or {}))
+    the number of frames stored.  The strain (``overrides["strain"]``, default the preset's)
+    only stops the run: a larger one extends a stored member, which then stays extended
+    where a later call names no strain; one short of the frames stored is refused."""
+    overrides = dict(overrides or {})
+    params = member_params(mus, seed, preset, **overrides)
     folder = Path(store) / label(params, preset)
     rec = _member_json(folder)
     if restart and folder.exists():
         shutil.rmtree(folder)
         rec = None
+    if rec is not None and "strain" not in overrides and \
+            rec["parameters"]["strain"] > params["strain"]:     # extended: stays extended
+        params = member_params(mus, seed, preset, **overrides, strain=rec["parameters"]["strain"])
     if rec is not None and rec["fingerprint"] != _fingerprint(params):
         raise SystemExit(f"{folder}: holds a member with other parameters (member.json); "
                          "rerun with --restart to discard it")
@@ -246,11 +254,15 @@ def run(mus, seed=0, preset="paper", segment=SEGMENT, max_hours=None, restart=Fa
         raise SystemExit(f"{folder}: its segments have {rec['segment']} frames, not "
                          f"{segment}; give --segment {rec['segment']}")
     done = _load_all(folder) if rec is not None else []
+    n_frames = int(round(params["strain"] / params["dgamma"]))
+    if done and int(done[-1]["last"]) > n_frames:
+        raise SystemExit(f"{folder}: holds frames to {int(done[-1]['last'])}, past strain "
+                         f"{params['strain']:g} ({n_frames} frames); give --strain "
+                         f"{rec['parameters']['strain']:g} or more")
     if rec is None or rec["parameters"]["strain"] != params["strain"]:
         folder.mkdir(parents=True, exist_ok=True)    # the strain only stops the run
         rec = {"parameters": params, "fingerprint": _fingerprint(params), "segment": segment}
         (folder / "member.json").write_text(json.dumps(rec, indent=1, default=float))
-    n_frames = int(round(params["strain"] / params["dgamma"]))
     prev = done[-1] if done else None
     k0 = int(prev["last"]) + 1 if prev is not None else 0
     if prev is not None:
@@ -452,6 +464,10 @@ def main(argv=None):
     r.add_argument("--preset", choices=("quick", "paper", "large"), default="paper")
     r.add_argument("--segment", type=int, default=SEGMENT)
     r.add_argument("--max-hours", type=float, default=None)
+    r.add_argument("--strain", type=float, default=None,
+                   help="run to this strain (default: the preset's, or the member's if it was "
+                        "extended): a larger one extends a stored member where tau has not "
+                        "levelled by the preset's")
     r.add_argument("--restart", action="store_true", help="discard the stored member first")
     r.add_argument("--store", type=Path, default=STORE)
     s = sub.add_parser("status", help="what is stored")
@@ -466,14 +482,20 @@ def main(argv=None):
             ap.error("--segment must be >= 2")
         if a.max_hours is not None and not a.max_hours > 0:
             ap.error("--max-hours must be > 0")
+        if a.strain is not None and not a.strain > 0:
+            ap.error("--strain must be > 0")
         t0 = time.perf_counter()
         for mus in a.mus:
             left = None if a.max_hours is None else a.max_hours - (time.perf_counter() - t0) / 3600
             if left is not None and left <= 0:
                 print(f"mus {mus:g}: not started (--max-hours spent)", flush=True)
                 continue
-            run(mus, a.seed, a.preset, a.segment, left, a.restart, a.store,
-                log=lambda m: print(m, flush=True))
+            try:
+                run(mus, a.seed, a.preset, a.segment, left, a.restart, a.store,
+                    overrides=None if a.strain is None else {"strain": a.strain},
+                    log=lambda m: print(m, flush=True))
+            except ParameterError as exc:
+                ap.error(str(exc))
     elif a.cmd == "status":
         print("\n".join(status(a.store)) or f"{a.store}: no member")
     else:

@@ -210,3 +210,31 @@ def test_a_store_of_other_parameters_or_other_code_is_refused(member, monkeypatc
     with pytest.raises(SystemExit, match="seg_0000.npz: made by other code.*--restart"):
         shear_rolling.run(0.7, preset="quick", segment=30, store=store, log=lambda m: None,
                           overrides={**TINY, "strain": 0.02})
+
+
+def test_a_larger_strain_extends_the_member_and_it_stays_extended(member, tmp_path):
+    import shutil
+    folder, _, _ = member
+    store = tmp_path / "store"
+    shutil.copytree(folder, store / folder.name)
+    quiet = dict(preset="quick", segment=30, store=store, log=lambda m: None, max_hours=1e-12)
+    # stopped at once (max_hours spent): only member.json learns the strain
+    assert shear_rolling.run(0.7, overrides={**TINY, "strain": 0.5}, **quiet) == 100
+    extended = json.loads((store / folder.name / "member.json").read_text())
+    assert extended["parameters"]["strain"] == 0.5 > shear_rolling.member_params(
+        0.7, 0, "quick", **TINY)["strain"]
+    shear_rolling.run(0.7, overrides=TINY, **quiet)              # no strain named: kept
+    assert json.loads((store / folder.name / "member.json").read_text()) == extended
+    with pytest.raises(SystemExit, match="holds frames to 100, past strain 0.005 .*--strain 0.5"):
+        shear_rolling.run(0.7, overrides={**TINY, "strain": 0.005}, **quiet)
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--strain", "0"], "--strain must be > 0"),
+    (["--strain", "1e-9"], "strain = 1e-09 must be >= dgamma"),
+])
+def test_a_bad_strain_is_a_usage_error(argv, said, tmp_path, capsys):
+    with pytest.raises(SystemExit) as exc:
+        shear_rolling.main(["run", "--mus", "0.7", "--preset", "quick", "--store",
+                            str(tmp_path), *argv])
+    assert exc.value.code == 2 and said in capsys.readouterr().err
