@@ -325,7 +325,9 @@ def test_paper_comparison_says_whether_its_window_is_a_steady_state():
     tau = 0.1 + 0.2 * np.minimum(strain, 0.06) / 0.06 + 0.002 * rng.standard_normal(strain.size)
     early = steadiness(strain, tau, 0.022, 0.022)
     assert early["start"] is not None and 0.04 <= early["start"] <= 0.09
-    assert not early["in_steady_state"] and early["window_p"] < 0.05
+    # the window's own test fails: it trends, or its ramp reads as memory longer than a block
+    assert not early["in_steady_state"]
+    assert early["window_p"] < 0.05 or not early["window_independent"]
     assert "include the transient" in steadiness_text(early, "RUN")
     late = steadiness(strain, tau, 0.022, 0.09)
     assert late["in_steady_state"] and "**Steady**" in steadiness_text(late, "RUN")

@@ -4,6 +4,7 @@ steady start, and its errors on bad input."""
 import numpy as np
 import pytest
 
+from fricstab.analysis.autocorrelation import integrated_time, memory_trend_test
 from fricstab.analysis.stationarity import steady_start, steady_window, trend_test
 from fricstab.errors import ParameterError
 
@@ -89,24 +90,73 @@ def test_steady_start_rejects_a_decreasing_axis():
         steady_start(np.linspace(1, 0, 100), np.ones(100))
 
 
-def test_steady_window_starts_at_the_steady_start_or_at_gamma0():
-    """The rise of test_steady_start_after_a_transient: the window starts where steady_start
-    (run on the frames from gamma0) accepts, never before gamma0; a drift to the end gives
-    gamma0 and says so; too few frames after gamma0 give gamma0 with the test's reason."""
+def test_steady_window_starts_after_the_transient_or_at_gamma0():
+    """The rise of test_steady_start_after_a_transient: the window starts at or after the end
+    of the rise less three candidate spacings (0.063 / 19 from gamma0 = 0.01: the last 0.75
+    std of the rise, which the block means' noise of ~0.44 std hides at the test's level),
+    never before gamma0, on independent blocks; gamma0 past the transient: the first candidate passes; a
+    drift to the end gives gamma0 and says so; too few frames after gamma0 give gamma0 with
+    the reason."""
     rng = np.random.default_rng(2)
     n = 4000
     t = np.linspace(0.0, 0.1, n)
     x = _ar1(rng, n)[0] + 3.0 * np.clip(t / 0.04, 0, 1)
     start, info = steady_window(t, x, 0.01)
-    want, _ = steady_start(t[t >= 0.01], x[t >= 0.01])
-    assert info["steady"] and start == want == info["start"] and start >= 0.01
-    # gamma0 past the transient: the first candidate passes, the window starts at gamma0
+    assert info["steady"] and start == info["start"]
+    assert 0.04 - 3 * 0.063 / 19 <= start <= 0.07
+    assert info["n_blocks"] == 20 and info["n_values"] / info["n_blocks"] >= 2 * info["tau_int"]
     start, info = steady_window(t, x, 0.06)
     assert info["steady"] and start == pytest.approx(0.06, abs=1e-4)
     drift = 5 * t / 0.1 + 0.01 * rng.normal(size=n)
     start, info = steady_window(t, drift, 0.02)
     assert start == 0.02 and not info["steady"] and "extend the run" in info["reason"]
     start, info = steady_window(t, x, 0.0999)
-    assert start == 0.0999 and not info["steady"] and "values" in info["reason"]
+    assert start == 0.0999 and not info["steady"] and "frames for the blocks" in info["reason"]
     with pytest.raises(ParameterError, match="one length"):
         steady_window(t, x[:-1], 0.0)
+    with pytest.raises(ParameterError, match="must not decrease"):
+        steady_window(t[::-1], x, 0.0)
+
+
+def test_integrated_time_of_correlated_noise():
+    """AR(1) with phi = 0.9: tau_int = (1 + phi) / (1 - phi) = 19 values.  Error model: the
+    estimate of one series of 20,000 values has a relative standard error ~sqrt(2 (2M + 1) /
+    N) ~ 0.1 (Sokal; window M ~ 5 tau_exp ~ 50), so the mean of 40 has ~0.016; the bound
+    4 x 0.016 fails for an estimator off by a factor (the lag-1 correlation alone reads 0.9,
+    the exponential time 9.5).  A drift of 5 std added to each series reads as memory (the
+    estimate grows more than 10x): the error is towards calling a drifting window too short
+    for the test, never towards calling it steady."""
+    rng = np.random.default_rng(4)
+    xs = _ar1(rng, 20_000, size=40)
+    g = np.array([integrated_time(v) for v in xs])
+    assert abs(g.mean() / 19 - 1) < 4 * 0.016
+    drifted = np.array([integrated_time(v + np.linspace(0, 5, v.size)) for v in xs])
+    assert np.min(drifted / g) > 10
+    assert integrated_time(np.full(50, 2.0)) == 1.0
+    assert integrated_time(rng.normal(size=5000)) < 1.2
+
+
+def test_memory_trend_test_sizes_blocks_by_the_memory():
+    """Size: on AR(1) noise (tau_int 19, 2,000 values) the blocks are 100 values, 20 of them,
+    independent (>= 2 x tau_int) for all but the series whose estimate exceeds 50 (its
+    estimates on 2,000 values spread 13-37 from the 1st to the 99th percentile: at most 5 %
+    allowed), and the rejection rate is at the test's level (the bound of
+    test_size_on_stationary_correlated_noise).  A memory of tau_int ~ 199 (phi = 0.99) in the
+    same 2,000 values leaves 10 blocks of 200 < 2 x 199: not independent, and no start of
+    such a stationary series is called steady, however the test comes out."""
+    rng = np.random.default_rng(5)
+    tests = [memory_trend_test(v) for v in _ar1(rng, 2000, size=400)]
+    assert np.mean([t["n_blocks"] == 20 and t["independent"] for t in tests]) > 0.95
+    assert all(t["n_blocks"] >= 10 and (t["n_blocks"] == 20) == (t["tau_int"] <= 50)
+               for t in tests)
+    assert np.mean([not t["steady"] for t in tests]) < 0.05 + 4 * np.sqrt(0.05 * 0.95 / 400)
+    long = _ar1(rng, 2000, phi=0.99)[0]
+    got = memory_trend_test(long)
+    assert got["n_blocks"] == 10 and not got["independent"] and got["tau_int"] > 100
+    start, info = steady_window(np.linspace(0, 0.1, 2000), long, 0.0)
+    assert start == 0.0 and not info["steady"]
+    assert "integrated autocorrelation times of tau, 20 needed" in info["reason"]
+    with pytest.raises(ParameterError, match="non-finite"):
+        integrated_time(np.r_[np.ones(10), np.inf])
+    with pytest.raises(ParameterError, match="one-dimensional"):
+        integrated_time(np.ones((3, 3)))

@@ -126,19 +126,23 @@ def steadiness(strain, tau, gamma0, window_from):
     of tau from the paper's ``gamma0`` (or the window's start, if earlier) by
     :func:`fricstab.analysis.stationarity.steady_window` (what ``--steady-start`` prints),
     and the Mann-Kendall test of the window itself."""
-    from fricstab.analysis.stationarity import steady_window, trend_test
+    from fricstab.analysis.autocorrelation import memory_trend_test
+    from fricstab.analysis.stationarity import steady_window
     from fricstab.errors import ParameterError
     _, info = steady_window(strain, tau, min(gamma0, window_from))
     out = {"start": info["start"], "p": info.get("p"), "window_from": float(window_from),
-           "in_steady_state": info["steady"] and window_from >= info["start"] - 1e-12}
+           "in_steady_state": info["steady"] and window_from >= info["start"] - 1e-12,
+           "reason": info.get("reason")}
     if "p" not in info:                 # too few frames for the test
         return {**out, "error": info["reason"]}
     try:
-        whole = trend_test(tau[strain >= window_from])
+        whole = memory_trend_test(tau[strain >= window_from])
     except ParameterError as exc:
         return {**out, "error": str(exc)}
     return {**out, "window_p": whole["p"], "window_drift_over_std": whole["drift_over_std"],
-            "window_block_lag1": whole["block_lag1"]}
+            "window_block_lag1": whole["block_lag1"], "window_blocks": whole["n_blocks"],
+            "window_tau_int": whole["tau_int"], "window_frames": whole["n_values"],
+            "window_independent": whole["independent"]}
 
 
 def steady_window(run):
@@ -163,13 +167,16 @@ def steadiness_text(st, run):
     """The sentence of :func:`steadiness` for the page."""
     if "error" in st:
         return f"Not tested: {st['error']}."
-    head = (f"Mann-Kendall test of 20 block means of tau over the analysed window (strain >= "
-            f"{100 * st['window_from']:.2f} %): p = {st['window_p']:.2g}, drift "
-            f"{st['window_drift_over_std']:+.2f} std over the window, lag-1 correlation of the "
-            f"block means {st['window_block_lag1']:.2f}. ")
+    head = (f"Mann-Kendall test of {st['window_blocks']} block means of tau over the analysed "
+            f"window (strain >= {100 * st['window_from']:.2f} %, {st['window_frames']} frames; "
+            f"tau's integrated autocorrelation time {st['window_tau_int']:.0f} frames, so the "
+            f"blocks are {'' if st['window_independent'] else '**not** '}independent): "
+            f"p = {st['window_p']:.2g}, drift {st['window_drift_over_std']:+.2f} std over the "
+            f"window, lag-1 correlation of the block means {st['window_block_lag1']:.2f}. ")
     if st["start"] is None:
-        return head + ("**Not a steady state**: no start from 2.2 % on passes the test (last "
-                       f"candidate p = {st['p']:.2g}); the statistics average a drifting state. "
+        return head + ("**Not a steady state**: no start from 2.2 % on passes the test on "
+                       f"independent blocks ({st.get('reason') or 'no start passes'}); the "
+                       "statistics average a drifting state. "
                        f"Extend the run: `fricstab shear run --out {run} --resume --strain S` "
                        "with a larger S.")
     if st["in_steady_state"]:

@@ -106,30 +106,54 @@ def steady_start(t, x, starts=None, n_blocks=20, alpha=0.05, min_fraction=0.3):
     return None, test
 
 
-def steady_window(strain, tau, gamma0, **kw):
+def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
     """Where the steady-state statistics of a sheared run start: the earliest strain at or
-    after ``gamma0`` from which ``tau`` is steady (:func:`steady_start` on the frames from
-    ``gamma0``, keywords passed on), else ``gamma0`` itself.
+    after ``gamma0`` from which ``tau`` is steady, else ``gamma0`` itself.
+
+    The candidate starts are :func:`steady_start`'s (20, evenly spaced over the frames from
+    ``gamma0``, each leaving at least ``min_fraction`` of them), but each window is tested by
+    :func:`fricstab.analysis.autocorrelation.memory_trend_test`: blocks sized by tau's
+    integrated autocorrelation time, and a window accepted only where its blocks are
+    independent and the test does not reject.  A window shorter than 20 integrated times of
+    tau is never called steady: the run needs more strain.
 
     Returns ``(start, info)``: ``info["steady"]`` is False where no candidate start passes
     or the window is too short for the test (``info["reason"]`` says which); otherwise
-    ``info`` holds the accepted start and its test's ``p``, ``drift_over_std`` and
-    ``block_lag1``.  The caveat of :func:`steady_start` applies: the accepted start is a choice
-    after the fact.
+    ``info`` holds the accepted start; both hold the (last) test's ``p``,
+    ``drift_over_std``, ``block_lag1``, ``n_blocks``, ``tau_int`` (frames) and ``n_values``.
+    The caveat of :func:`steady_start` applies: the accepted start is a choice after the fact.
     """
+    from fricstab.analysis.autocorrelation import BLOCK_OVER_TAU, MIN_BLOCKS, memory_trend_test
     strain, tau = np.asarray(strain, float), np.asarray(tau, float)
     if strain.shape != tau.shape or strain.ndim != 1:
         raise ParameterError(f"strain and tau must be one-dimensional and of one length (got "
                              f"{strain.shape} and {tau.shape})")
+    if strain.size and np.any(np.diff(strain) < 0):
+        raise ParameterError("the strain must not decrease")
     gamma0 = float(gamma0)
-    win = strain >= gamma0
-    try:
-        start, test = steady_start(strain[win], tau[win], **kw)
-    except ParameterError as exc:
-        return gamma0, {"steady": False, "start": None, "reason": str(exc)}
-    keep = {k: test[k] for k in ("p", "drift_over_std", "block_lag1")}
-    if start is None:
+    t, x = strain[strain >= gamma0], tau[strain >= gamma0]
+    test = None
+    if t.size:
+        for s in np.linspace(t[0], t[int((1.0 - min_fraction) * (t.size - 1))], 20):
+            sel = t >= s
+            if sel.sum() < max(min_fraction * t.size, 2 * MIN_BLOCKS):
+                break
+            test = memory_trend_test(x[sel], alpha)
+            if test["steady"] and test["independent"]:
+                break
+    if test is None:
+        return gamma0, {"steady": False, "start": None,
+                        "reason": f"no candidate start leaves {min_fraction:.0%} of the "
+                                  f"{t.size} frames from strain {gamma0:g} and "
+                                  f"{2 * MIN_BLOCKS} frames for the blocks"}
+    keep = {k: test[k] for k in ("p", "drift_over_std", "block_lag1", "n_blocks", "tau_int",
+                                 "n_values")}
+    if not (test["steady"] and test["independent"]):
+        why = ("" if test["independent"] else
+               f"; the last window holds {test['n_values'] / test['tau_int']:.1f} integrated "
+               f"autocorrelation times of tau, {MIN_BLOCKS * BLOCK_OVER_TAU:g} needed")
         return gamma0, {"steady": False, "start": None, **keep,
                         "reason": f"no start from strain {gamma0:g} on passes the trend test "
-                                  f"(last candidate p = {test['p']:.2g}): extend the run"}
-    return max(gamma0, start), {"steady": True, "start": start, **keep}
+                                  f"on independent blocks (last candidate p = "
+                                  f"{test['p']:.2g}{why}): extend the run"}
+    return max(gamma0, float(s)), {"steady": True, "start": float(s), **keep}

@@ -228,16 +228,15 @@ def _steady(frames, gamma0):
     warning on stderr where no start passes."""
     from fricstab.analysis.stationarity import steady_window
     start, info = steady_window(frames.strain, frames.tau, gamma0)
-    lag = info.get("block_lag1", 0.0)
-    memory = (f"; block lag-1 {lag:.2f} > 0.5: the blocks are shorter than tau's memory, "
-              "so the test rejects too often" if lag > 0.5 else "")
     if info["steady"]:
-        print(f"steady start: strain {start:.6g} (Mann-Kendall on 20 block means of tau from "
-              f"there: p = {info['p']:.2g}, drift {info['drift_over_std']:+.2g} std{memory})")
+        print(f"steady start: strain {start:.6g} (Mann-Kendall on {info['n_blocks']} block "
+              f"means of tau from there, each >= 2 of tau's integrated autocorrelation times "
+              f"of {info['tau_int']:.0f} frames: p = {info['p']:.2g}, drift "
+              f"{info['drift_over_std']:+.2g} std)")
     else:
         print(f"fricstab: warning: tau is not steady from strain {gamma0:g} on "
-              f"({info['reason']}{memory}); analysed from gamma0 = {gamma0:g}, a drifting "
-              "state", file=sys.stderr)
+              f"({info['reason']}); analysed from gamma0 = {gamma0:g}, a drifting state",
+              file=sys.stderr)
     return start, info
 
 

@@ -652,7 +652,8 @@ def _paper_pages(run, frames, units):
                                    "verdict": x["verdict"].split(" (")[0]}
                                   for x in doc["verdicts"]],
                    "steady": {k: doc["steady"].get(k) for k in
-                              ("start", "p", "window_from", "window_p", "in_steady_state")},
+                              ("start", "p", "window_from", "window_p", "in_steady_state",
+                               "window_blocks", "window_tau_int", "window_independent")},
                    "comparisons": [{k: x[k] for k in ("id", "figure", "verdict")}
                                    for x in doc["comparisons"]],
                    "event": [{k: x[k] for k in ("id", "figure", "verdict")}
@@ -710,9 +711,13 @@ def _steady_text(st):
     if not st:
         return "steadiness not tested"
     where = f"window from {100 * st['window_from']:.2f} %"
+    if st.get("window_tau_int") is not None:
+        where += (f" ({st['window_blocks']} blocks; tau's integrated time "
+                  f"{st['window_tau_int']:.0f} frames)")
     if st["in_steady_state"]:
         return f"{where}: steady (from {100 * st['start']:.2f} %, p = {st['p']:.2g})"
-    return f"{where}: not a steady state (window p = {st.get('window_p') or 0:.2g})"
+    memory = "" if st.get("window_independent", True) else ", blocks not independent"
+    return f"{where}: not a steady state (window p = {st.get('window_p') or 0:.2g}{memory})"
 
 
 _SHORT = {"agrees": "a", "disagrees": "d", "undecided": "u", "not comparable": "-"}
