@@ -4,7 +4,7 @@ steady start, and its errors on bad input."""
 import numpy as np
 import pytest
 
-from fricstab.analysis.autocorrelation import integrated_time, memory_trend_test
+from fricstab.analysis.autocorrelation import integrated_time, memory_blocks
 from fricstab.analysis.stationarity import steady_start, steady_window, trend_test
 from fricstab.errors import ParameterError
 
@@ -136,7 +136,7 @@ def test_integrated_time_of_correlated_noise():
     assert integrated_time(rng.normal(size=5000)) < 1.2
 
 
-def test_memory_trend_test_sizes_blocks_by_the_memory():
+def test_memory_blocks_size_the_test_by_the_memory():
     """Size: on AR(1) noise (tau_int 19, 2,000 values) the blocks are 100 values, 20 of them,
     independent (>= 2 x tau_int) for all but the series whose estimate exceeds 50 (its
     estimates on 2,000 values spread 13-37 from the 1st to the 99th percentile: at most 5 %
@@ -145,14 +145,15 @@ def test_memory_trend_test_sizes_blocks_by_the_memory():
     same 2,000 values leaves 10 blocks of 200 < 2 x 199: not independent, and no start of
     such a stationary series is called steady, however the test comes out."""
     rng = np.random.default_rng(5)
-    tests = [memory_trend_test(v) for v in _ar1(rng, 2000, size=400)]
+    tests = [{**trend_test(v, n), "tau_int": g, "independent": ok}
+             for v in _ar1(rng, 2000, size=400) for n, g, ok in [memory_blocks(v)]]
     assert np.mean([t["n_blocks"] == 20 and t["independent"] for t in tests]) > 0.95
     assert all(t["n_blocks"] >= 10 and (t["n_blocks"] == 20) == (t["tau_int"] <= 50)
                for t in tests)
     assert np.mean([not t["steady"] for t in tests]) < 0.05 + 4 * np.sqrt(0.05 * 0.95 / 400)
     long = _ar1(rng, 2000, phi=0.99)[0]
-    got = memory_trend_test(long)
-    assert got["n_blocks"] == 10 and not got["independent"] and got["tau_int"] > 100
+    n, g, ok = memory_blocks(long)
+    assert n == 10 and not ok and g > 100
     start, info = steady_window(np.linspace(0, 0.1, 2000), long, 0.0)
     assert start == 0.0 and not info["steady"]
     assert "integrated autocorrelation times of tau, 20 needed" in info["reason"]

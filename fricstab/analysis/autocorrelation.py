@@ -1,11 +1,11 @@
-"""The memory of a series, and a trend test that respects it.
+"""The memory of a series, and the blocks of a trend test that respect it.
 
 A trend test on block means (:func:`fricstab.analysis.stationarity.trend_test`) assumes the
 means of neighbouring blocks independent: each block much longer than the series' memory.
 The memory is measured on the values themselves, by the integrated autocorrelation time
 ``tau_int = 1 + 2 sum_k rho(k)`` (in values; :func:`integrated_time`: Geyer's initial positive
 sequence).
-:func:`memory_trend_test` cuts the window into the most blocks, at most :data:`MAX_BLOCKS`, of
+:func:`memory_blocks` cuts the window into the most blocks, at most :data:`MAX_BLOCKS`, of
 at least :data:`BLOCK_OVER_TAU` x ``tau_int`` values each, and never fewer than
 :data:`MIN_BLOCKS` (with fewer the Mann-Kendall test loses the power to see a transient: on 6
 blocks a rise of 3 std passes, p = 0.056); where the window is shorter than
@@ -20,9 +20,9 @@ import numpy as np
 
 from fricstab.errors import ParameterError
 
-__all__ = ["BLOCK_OVER_TAU", "MAX_BLOCKS", "MIN_BLOCKS", "integrated_time", "memory_trend_test"]
+__all__ = ["BLOCK_OVER_TAU", "MAX_BLOCKS", "MIN_BLOCKS", "integrated_time", "memory_blocks"]
 
-#: the most and the fewest blocks of :func:`memory_trend_test` (module docstring)
+#: the most and the fewest blocks of :func:`memory_blocks` (module docstring)
 MAX_BLOCKS, MIN_BLOCKS = 20, 10
 #: a block holds at least this many integrated autocorrelation times for its mean to count as
 #: independent of its neighbour's (block means of an AR(1) series then have a lag-1
@@ -54,14 +54,12 @@ def integrated_time(x):
     return float(max(1.0, 2.0 * pairs[: stop[0] if stop.size else pairs.size].sum() - 1.0))
 
 
-def memory_trend_test(x, alpha=0.05):
-    """:func:`fricstab.analysis.stationarity.trend_test` on blocks sized by the series'
-    memory (module docstring).  Returns its dict with ``tau_int`` (values) and
-    ``independent`` (every block holds at least ``BLOCK_OVER_TAU x tau_int`` values) added.
-    """
-    from fricstab.analysis.stationarity import trend_test
+def memory_blocks(x):
+    """The blocks of a trend test sized by the memory of ``x`` (module docstring):
+    ``(n_blocks, tau_int, independent)``; pass ``n_blocks`` to
+    :func:`fricstab.analysis.stationarity.trend_test`, and call its acceptance meaningful only
+    where ``independent`` (every block holds at least ``BLOCK_OVER_TAU x tau_int`` values)."""
     x = np.asarray(x, float)
     g = integrated_time(x)
     n = int(np.clip(x.size // (BLOCK_OVER_TAU * g), MIN_BLOCKS, MAX_BLOCKS))
-    test = trend_test(x, n, alpha)
-    return {**test, "tau_int": g, "independent": bool(x.size // n >= BLOCK_OVER_TAU * g)}
+    return n, g, bool(x.size // n >= BLOCK_OVER_TAU * g)

@@ -112,8 +112,8 @@ def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
 
     The candidate starts are :func:`steady_start`'s (20, evenly spaced over the frames from
     ``gamma0``, each leaving at least ``min_fraction`` of them), but each window is tested by
-    :func:`fricstab.analysis.autocorrelation.memory_trend_test`: blocks sized by tau's
-    integrated autocorrelation time, and a window accepted only where its blocks are
+    the Mann-Kendall test on blocks sized by tau's integrated autocorrelation time
+    (:func:`fricstab.analysis.autocorrelation.memory_blocks`), and a window accepted only where its blocks are
     independent and the test does not reject.  A window shorter than 20 integrated times of
     tau is never called steady: the run needs more strain.
 
@@ -123,7 +123,7 @@ def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
     ``drift_over_std``, ``block_lag1``, ``n_blocks``, ``tau_int`` (frames) and ``n_values``.
     The caveat of :func:`steady_start` applies: the accepted start is a choice after the fact.
     """
-    from fricstab.analysis.autocorrelation import BLOCK_OVER_TAU, MIN_BLOCKS, memory_trend_test
+    from fricstab.analysis.autocorrelation import BLOCK_OVER_TAU, MIN_BLOCKS, memory_blocks
     strain, tau = np.asarray(strain, float), np.asarray(tau, float)
     if strain.shape != tau.shape or strain.ndim != 1:
         raise ParameterError(f"strain and tau must be one-dimensional and of one length (got "
@@ -138,7 +138,8 @@ def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
             sel = t >= s
             if sel.sum() < max(min_fraction * t.size, 2 * MIN_BLOCKS):
                 break
-            test = memory_trend_test(x[sel], alpha)
+            n, g, independent = memory_blocks(x[sel])
+            test = {**trend_test(x[sel], n, alpha), "tau_int": g, "independent": independent}
             if test["steady"] and test["independent"]:
                 break
     if test is None:
