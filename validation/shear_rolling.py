@@ -358,6 +358,27 @@ def _arrays_of(rec, done):
     return series, steps, _last_frame(done[-1], {"scene": rec["parameters"]}), rec, units
 
 
+def series_to(folder, strain):
+    """The series (T, 6) of a member's frames up to ``strain`` (the first segments that reach
+    it, each checked fresh, cut at the last frame at or below it), the merged code units of
+    those segments and their files; SystemExit where the member has not reached ``strain``."""
+    series, units, used = [], {}, []
+    for f in segments(folder):
+        got = _stamped.stored(f)
+        if got is None:
+            raise SystemExit(f"{f}: made by other code (a function it executed has changed "
+                             "since) or unreadable")
+        series.append(got["series"])
+        units = _stamped.merge(units, _stamped.units_of(got))
+        used.append(f)
+        if got["series"][-1, 1] >= strain - 1e-12:
+            whole = np.concatenate(series)
+            return whole[whole[:, 1] <= strain + 1e-12], units, used
+    reached = series[-1][-1, 1] if series else 0.0
+    raise SystemExit(f"{folder}: reaches strain {reached:.5f}, not {strain:g}; run it on: "
+                     f"python validation/shear_rolling.py run --mus M --strain {strain:g}")
+
+
 def arrays(folder):
     """(series (T, 6), per-step arrays, the last frame, member record, merged code units)."""
     return _arrays_of(*_loaded(folder))

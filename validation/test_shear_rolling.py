@@ -238,3 +238,40 @@ def test_a_bad_strain_is_a_usage_error(argv, said, tmp_path, capsys):
         shear_rolling.main(["run", "--mus", "0.7", "--preset", "quick", "--store",
                             str(tmp_path), *argv])
     assert exc.value.code == 2 and said in capsys.readouterr().err
+
+
+def test_series_to_a_strain_reads_only_the_segments_that_reach_it(member):
+    folder, _, _ = member
+    whole, *_ = shear_rolling.arrays(folder)
+    series, units, used = shear_rolling.series_to(folder, 0.005)
+    # frames 0..50 lie in seg_0000 (0..30) and seg_0001 (31..50): strain 0.005 is frame 50
+    assert [f.name for f in used] == ["seg_0000.npz", "seg_0001.npz"] and units
+    assert np.array_equal(series, whole[:51])
+    with pytest.raises(SystemExit, match=r"reaches strain 0.01000, not 0.02; .*--strain 0.02"):
+        shear_rolling.series_to(folder, 0.02)
+
+
+def test_the_paper_window_claim_judges_the_halves(member, tmp_path):
+    """The claim on the tiny member (window 0.002-0.01): the halves' means and errors as
+    computed by hand, and the verdict's two conditions each able to fail."""
+    import shutil
+
+    from claims import shear_sweep_paper as claim
+    from fricstab.analysis.autocorrelation import integrated_time
+    folder, _, _ = member
+    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    v = claim.paper_window(tmp_path / "store", (0.002, 0.01)).values
+    series, *_ = shear_rolling.arrays(folder)
+    x = series[series[:, 1] >= 0.002, 4]
+    a, b = np.array_split(x, 2)
+    se = [p.std() * np.sqrt(integrated_time(p) / p.size) for p in (a, b)]
+    assert v["frames"] == x.size and v["halves"][1]["mean"] == b.mean()
+    assert v["distance"] == pytest.approx(abs(b.mean() - a.mean()) / np.hypot(*se), rel=1e-12)
+    steady = {"steady": True, "start": 0.002}
+    good = {**v, "distance": 1.5, "steady": steady}
+    assert claim.window_verdict(good).label == "agrees"
+    assert claim.window_verdict({**good, "distance": 2.5}).label == "disagrees"
+    assert claim.window_verdict({**good, "steady": {**steady, "start": 0.004}}).label == "disagrees"
+    assert claim.window_verdict({**good, "steady": {"steady": False, "start": None}}).label \
+        == "disagrees"
+    assert "combined s.e." in claim.window_show(v)

@@ -25,6 +25,12 @@ COMMAND = ("python validation/shear_rolling.py run --mus " + " ".join(map(str, M
            "validation/shear_rolling.py export --out DIR; python validation/shear_sweep_paper.py "
            "DIR")
 SHORT = {"agrees": "a", "disagrees": "d", "undecided": "u", "not comparable": "-"}
+#: the paper's analysis window: 130,000 output steps of 7.2e-7 from strain 2.2 % (Sec. 2)
+PAPER_WINDOW = (0.022, 0.1156)
+#: the paper-preset member's segments that reach the paper's strain (frames 0..160,556):
+#: fixed once written, so the record does not go stale while the member is extended
+WINDOW_STORED = tuple(f"validation/runs/shear_rolling/mus0.7_seed0/seg_{i:04d}.npz"
+                      for i in range(33))
 
 
 def sweep_paper(store=None, md=None):
@@ -102,6 +108,69 @@ def check(old, new):
     return same, "identical" if same else "the same store gave other numbers"
 
 
+def paper_window(store=None, window=PAPER_WINDOW):
+    """tau over the paper's window in the paper-preset member (mu_s = 0.7, seed 0; its
+    committed segments up to the window's end): the steady start from the window's start
+    (:func:`fricstab.analysis.stationarity.steady_window`), the mean of tau in each half of
+    the window with its standard error from that half's integrated autocorrelation time
+    (:func:`fricstab.analysis.autocorrelation.integrated_time`; a drift inflates it, so the
+    error errs large) and their distance in combined standard errors, tau per 1 % of strain,
+    and the cell's height at both ends of the window."""
+    import numpy as np
+
+    from .shear import _validation
+    _validation()
+    import shear_rolling
+    from fricstab.analysis.autocorrelation import integrated_time
+    from fricstab.analysis.stationarity import steady_window
+    lo, hi = window
+    series, units, used = shear_rolling.series_to(
+        Path(store or shear_rolling.STORE) / "mus0.7_seed0", hi)
+    strain, tau, height = series[:, 1], series[:, 4], series[:, 5]
+    start, info = steady_window(strain, tau, lo)
+    x = tau[strain >= lo]
+    halves = []
+    for part in np.array_split(x, 2):
+        g = integrated_time(part)
+        halves.append({"mean": float(part.mean()), "se": float(part.std() * np.sqrt(g / part.size)),
+                       "tau_int_strain": g * float(np.median(np.diff(strain)))})
+    (a, b) = halves
+    edges = np.arange(lo, hi + 1e-12, 0.01)
+    per = [float(tau[(strain >= e) & (strain < e + 0.01)].mean()) for e in edges[:-1]]
+    h0 = float(height[(strain >= lo) & (strain < lo + 0.01)].mean())
+    h1 = float(height[strain >= hi - 0.01].mean())
+    return Result({"window": list(window), "frames": int(x.size), "segments": len(used),
+                   "steady": {k: info.get(k) for k in ("steady", "start", "p", "n_blocks",
+                                                       "tau_int", "drift_over_std", "reason")},
+                   "halves": halves,
+                   "distance": abs(b["mean"] - a["mean"]) / float(np.hypot(a["se"], b["se"])),
+                   "tau_per_percent": per, "height_change": h1 / h0 - 1.0},
+                  seeds=(0,), units=units)
+
+
+def window_show(v):
+    a, b = v["halves"]
+    st = v["steady"]
+    said = (f"steady from strain {st['start']:.4f}" if st["steady"] else
+            "no steady start (" + (st["reason"] or "") + ")")
+    return (f"tau over {100 * v['window'][0]:.1f}-{100 * v['window'][1]:.2f} % ({v['frames']} "
+            f"frames): first half {a['mean']:.3f} +- {a['se']:.3f}, second half {b['mean']:.3f} "
+            f"+- {b['se']:.3f} ({v['distance']:.1f} combined s.e.); per 1 % of strain "
+            + " / ".join(f"{t:.2f}" for t in v["tau_per_percent"])
+            + f"; height {100 * v['height_change']:+.1f} % over the window; {said}")
+
+
+def window_verdict(v):
+    """The paper's window as a steady state: agrees where the halves' mean tau lie within 2
+    combined standard errors and the test finds a steady start at the window's start."""
+    st = v["steady"]
+    ok = v["distance"] <= 2 and st["steady"] and st["start"] <= v["window"][0] + 1e-12
+    return Verdict("agrees" if ok else "disagrees",
+                   f"halves {v['distance']:.1f} combined s.e. apart; steady from the window's "
+                   f"start: {'yes' if st['steady'] and st['start'] <= v['window'][0] + 1e-12 else 'no'}"
+                   "; agree if <= 2 and yes")
+
+
 CLAIMS = [
     Claim("shear.sweep_paper", "shear",
           "the mu_s sweep at the paper's scale (paper preset, mu_s = 0.7 / 0.5 / 0.3 / 0.1, "
@@ -114,4 +183,19 @@ CLAIMS = [
           paper="18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 output steps at mu_s = "
                 "0.1 / 0.3 / 0.5 / 0.7 (Sec. 4); the eight statements of Sec. 4 on Fig. 13",
           verdict=verdict, job="shear.sweep_paper", inputs=STORED),
+    Claim("shear.paper_window", "shear",
+          "is the paper's analysis window a steady state? tau of the paper-preset member "
+          "(mu_s = 0.7, seed 0) from strain 2.2 % to 11.56 %: the means of the window's halves "
+          "(standard errors from each half's integrated autocorrelation time), tau per 1 %, "
+          "the height, and tau's steady start on independent blocks", "seconds",
+          "python validation/reproduce.py --claim shear.paper_window (reads the committed "
+          "segments 0-32 of validation/runs/shear_rolling/mus0.7_seed0)", paper_window,
+          show=window_show,
+          tolerance="the same segments give the same numbers to the bit (deterministic)",
+          check=lambda a, b: (a == b, "identical" if a == b else "the same segments gave "
+                              "other numbers"),
+          paper="statistics over ~130,000 output steps from strain 2.2 % (Sec. 2), taken as "
+                "the steady state",
+          verdict=window_verdict, texts={"verdict": lambda v: str(window_verdict(v))},
+          inputs=WINDOW_STORED),
 ]
