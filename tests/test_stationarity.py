@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from fricstab.analysis.autocorrelation import integrated_time, memory_blocks
-from fricstab.analysis.stationarity import steady_start, steady_window, trend_test
+from fricstab.analysis.stationarity import (memory_trend_test, steady_start, steady_window,
+                                            trend_test)
 from fricstab.errors import ParameterError
 
 
@@ -145,8 +146,7 @@ def test_memory_blocks_size_the_test_by_the_memory():
     same 2,000 values leaves 10 blocks of 200 < 2 x 199: not independent, and no start of
     such a stationary series is called steady, however the test comes out."""
     rng = np.random.default_rng(5)
-    tests = [{**trend_test(v, n), "tau_int": g, "independent": ok}
-             for v in _ar1(rng, 2000, size=400) for n, g, ok in [memory_blocks(v)]]
+    tests = [memory_trend_test(v) for v in _ar1(rng, 2000, size=400)]
     assert np.mean([t["n_blocks"] == 20 and t["independent"] for t in tests]) > 0.95
     assert all(t["n_blocks"] >= 10 and (t["n_blocks"] == 20) == (t["tau_int"] <= 50)
                for t in tests)

@@ -126,8 +126,7 @@ def steadiness(strain, tau, gamma0, window_from):
     of tau from the paper's ``gamma0`` (or the window's start, if earlier) by
     :func:`fricstab.analysis.stationarity.steady_window` (what ``--steady-start`` prints),
     and the Mann-Kendall test of the window itself."""
-    from fricstab.analysis.autocorrelation import memory_blocks
-    from fricstab.analysis.stationarity import steady_window, trend_test
+    from fricstab.analysis.stationarity import memory_trend_test, steady_window
     from fricstab.errors import ParameterError
     _, info = steady_window(strain, tau, min(gamma0, window_from))
     out = {"start": info["start"], "p": info.get("p"), "window_from": float(window_from),
@@ -136,9 +135,7 @@ def steadiness(strain, tau, gamma0, window_from):
     if "p" not in info:                 # too few frames for the test
         return {**out, "error": info["reason"]}
     try:
-        x = tau[strain >= window_from]
-        n, g, independent = memory_blocks(x)
-        whole = {**trend_test(x, n), "tau_int": g, "independent": independent}
+        whole = memory_trend_test(tau[strain >= window_from])
     except ParameterError as exc:
         return {**out, "error": str(exc)}
     return {**out, "window_p": whole["p"], "window_drift_over_std": whole["drift_over_std"],

@@ -113,18 +113,22 @@ def _checkpoint(seg):
     return {k[len("ck_"):]: v for k, v in seg.items() if k.startswith("ck_")}
 
 
-def _load_all(folder):
-    """The stored segments of a member, each checked fresh; SystemExit naming a stale one."""
-    out = []
+def _fresh(folder, advice=""):
+    """The stored segments of a member in order, each checked fresh: ``(file, contents)``;
+    SystemExit naming the first stale or unreadable one (``advice`` ends the message)."""
     for f in segments(folder):
         got = _stamped.stored(f)
         if got is None:
             raise SystemExit(f"{f}: made by other code (a function it executed has changed "
-                             "since) or unreadable; the member cannot go on under this code: "
-                             "rerun with --restart to discard it, or check out the revision "
-                             "that made it")
-        out.append(got)
-    return out
+                             f"since) or unreadable{advice}")
+        yield f, got
+
+
+def _load_all(folder):
+    """The stored segments of a member, each checked fresh; SystemExit naming a stale one."""
+    return [got for _, got in _fresh(folder, "; the member cannot go on under this code: "
+                                             "rerun with --restart to discard it, or check "
+                                             "out the revision that made it")]
 
 
 # ------------------------------------------------------------------ running
@@ -363,11 +367,7 @@ def series_to(folder, strain):
     it, each checked fresh, cut at the last frame at or below it), the merged code units of
     those segments and their files; SystemExit where the member has not reached ``strain``."""
     series, units, used = [], {}, []
-    for f in segments(folder):
-        got = _stamped.stored(f)
-        if got is None:
-            raise SystemExit(f"{f}: made by other code (a function it executed has changed "
-                             "since) or unreadable")
+    for f, got in _fresh(folder):
         series.append(got["series"])
         units = _stamped.merge(units, _stamped.units_of(got))
         used.append(f)

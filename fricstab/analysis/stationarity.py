@@ -123,7 +123,7 @@ def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
     ``drift_over_std``, ``block_lag1``, ``n_blocks``, ``tau_int`` (frames) and ``n_values``.
     The caveat of :func:`steady_start` applies: the accepted start is a choice after the fact.
     """
-    from fricstab.analysis.autocorrelation import BLOCK_OVER_TAU, MIN_BLOCKS, memory_blocks
+    from fricstab.analysis.autocorrelation import BLOCK_OVER_TAU, MIN_BLOCKS
     strain, tau = np.asarray(strain, float), np.asarray(tau, float)
     if strain.shape != tau.shape or strain.ndim != 1:
         raise ParameterError(f"strain and tau must be one-dimensional and of one length (got "
@@ -138,8 +138,7 @@ def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
             sel = t >= s
             if sel.sum() < max(min_fraction * t.size, 2 * MIN_BLOCKS):
                 break
-            n, g, independent = memory_blocks(x[sel])
-            test = {**trend_test(x[sel], n, alpha), "tau_int": g, "independent": independent}
+            test = memory_trend_test(x[sel], alpha)
             if test["steady"] and test["independent"]:
                 break
     if test is None:
@@ -158,3 +157,13 @@ def steady_window(strain, tau, gamma0, alpha=0.05, min_fraction=0.3):
                                   f"on independent blocks (last candidate p = "
                                   f"{test['p']:.2g}{why}): extend the run"}
     return max(gamma0, float(s)), {"steady": True, "start": float(s), **keep}
+
+
+def memory_trend_test(x, alpha=0.05):
+    """:func:`trend_test` of ``x`` on blocks sized by its memory
+    (:func:`fricstab.analysis.autocorrelation.memory_blocks`): the test's dict and
+    ``tau_int`` (values) and ``independent`` (every block holds at least
+    ``BLOCK_OVER_TAU`` integrated times; where False, an acceptance means nothing)."""
+    from fricstab.analysis.autocorrelation import memory_blocks
+    n, g, independent = memory_blocks(x)
+    return {**trend_test(x, n, alpha), "tau_int": g, "independent": independent}

@@ -164,11 +164,10 @@ def window_verdict(v):
     """The paper's window as a steady state: agrees where the halves' mean tau lie within 2
     combined standard errors and the test finds a steady start at the window's start."""
     st = v["steady"]
-    ok = v["distance"] <= 2 and st["steady"] and st["start"] <= v["window"][0] + 1e-12
-    return Verdict("agrees" if ok else "disagrees",
+    from_start = st["steady"] and st["start"] <= v["window"][0] + 1e-12
+    return Verdict("agrees" if v["distance"] <= 2 and from_start else "disagrees",
                    f"halves {v['distance']:.1f} combined s.e. apart; steady from the window's "
-                   f"start: {'yes' if st['steady'] and st['start'] <= v['window'][0] + 1e-12 else 'no'}"
-                   "; agree if <= 2 and yes")
+                   f"start: {'yes' if from_start else 'no'}; agree if <= 2 and yes")
 
 
 CLAIMS = [
