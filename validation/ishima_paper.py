@@ -181,13 +181,15 @@ def plan(tier):
                 todo.append((n, phi, seed, p))
     at_fig = [FIG_PHI] + [p for p in phis if p != FIG_PHI]
     # cheapest and most asked-for first: Figs. 4, 6 and the band mixing over phi (N = 1,024),
-    # then the paper's phi = 0.90 spectra at the DOS size, then Figs. 5 and 16 there
+    # then the DOS size seed by seed, each seed over every phi (the phi = 0.90 spectra with
+    # it): every phi gains a packing before any gains its next, so a store stopped part way
+    # covers the sweep of Figs. 5 and 16 and not one phi alone
     for phi in at_fig:
         for seed in range(t["samples"][n4]):
             add(n4, phi, seed, ["ensemble", "rigidity"] + [f"dos{k:g}" for k in MIX_KTS]
                 + [f"rattlers{k:g}" for k in MIX_KTS])
-    for phi in at_fig:
-        for seed in range(t["samples"][nd]):
+    for seed in range(t["samples"][nd]):
+        for phi in at_fig:
             add(nd, phi, seed, ["ensemble", "rigidity", "dos1e-08"]
                 + ([f"dos{k:g}" for k in DOS_KTS]
                    + [f"rattlers{k:g}" for k in RATTLER_KTS] if phi == FIG_PHI else []))
