@@ -89,8 +89,21 @@ def analysed(run, log=print):
     return have["tables"], have["summary"], {**info, "window_from": start}
 
 
-def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
-    """Analyse and judge the finished members; write ``md`` and its ``.json``; the document."""
+def steady_cell(row):
+    """A member's "steady" cell: yes or no, with the last tested window's p-value and how many
+    of tau's integrated autocorrelation times it holds (20 needed: a "no" with p >= 0.05 is a
+    window too short for tau's memory, not a trend)."""
+    st = row["steady"]
+    if st.get("p") is None:
+        return "no (too few frames for the test)"
+    return (f"{'yes' if st['steady'] else 'no'} (p = {st['p']:.2g}, "
+            f"{st['n_values'] / st['tau_int']:.1f} integrated times)")
+
+
+def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print, source=None):
+    """Analyse and judge the finished members; write ``md`` and its ``.json``; the document.
+    ``source``: where the members come from, in words (default: the sweep folder, made by
+    ``fricstab shear sweep --preset paper``)."""
     import shear_sec4
     import shear_sweep
     from fricstab.analysis.shear import tables_markdown
@@ -113,7 +126,8 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
     paper = {m: n / 130_000 for m, n in shear_sweep.PAPER.items()}
     judged = shear_sec4.judge_sweep(tables)
     lines = ["# Plane shear: friction sweep at the paper's scale (Lee & Hurley Sec. 4)", "",
-             f"Sweep: `{sweep_dir}` (`fricstab shear sweep --preset paper`), analysed from each "
+             "Sweep: " + (source or f"`{sweep_dir}` (`fricstab shear sweep --preset paper`)")
+             + ", analysed from each "
              "member's steady start by `python validation/shear_sweep_paper.py`. Finished: "
              + (", ".join(f"mu_s = {m:g} seed {s}" for m, s in sorted(done)) or "none")
              + "; partial (the scale reached): "
@@ -137,8 +151,13 @@ def report(sweep_dir, md=HERE / "shear_sweep_paper.md", log=print):
                      + " / ".join(f"{r['steady']['window_from']:.4f}" for r in rs) + " | "
                      + " / ".join(f"{r['strain']:.4f}{' (partial)' if r['partial'] else ''}"
                                   for r in rs) + " | "
-                     + " / ".join("yes" if r["steady"]["steady"] else "no" for r in rs) + " |")
-    lines += ["", "## The paper's statements on Fig. 13 (Sec. 4)", "",
+                     + " / ".join(map(steady_cell, rs)) + " |")
+    lines += ["", "steady: whether tau from \"window from\" passes the Mann-Kendall test (p >= "
+              "0.05) on blocks sized by its memory, the window holding at least 20 of tau's "
+              "integrated autocorrelation times (`fricstab.analysis.stationarity.steady_window`); "
+              "where no start passes, the window is the paper's (from 2.2 %) and the cell gives "
+              "the last candidate start's test: the member is to be extended.",
+              "", "## The paper's statements on Fig. 13 (Sec. 4)", "",
               "Rules: `validation/shear_sec4.py` (as `validation/shear_sweep.md`).", "",
               shear_sec4.markdown(judged), "",
               "## Fig. 13, every panel (Spearman rho (p, n) per bin; struck through: p > 0.05)",

@@ -190,7 +190,11 @@ def test_the_sweep_claim_states_the_scale_reached(member, tmp_path):
     one["sec4"][3]["verdict"] = "disagrees"
     assert claim.verdict(one).label == "disagrees"
     assert "mu_s = 0.7 seed 0 to strain 0.0100; mu_s = 0.5 not started" in said.detail
-    assert "per step (paper 0.323)" in claim.show(v)
+    assert "per step (paper 0.323 per step)" in claim.show(v)
+    nothing = {**v, "rates": {"0.7": [{**v["rates"]["0.7"][0], "rate": None}]}}
+    assert "mu_s = 0.7: no step past gamma0 yet (paper 0.323 per step)" in claim.show(nothing)
+    assert "Sweep: the committed segmented members of `validation/runs/shear_rolling/`" in \
+        (tmp_path / "p.md").read_text()        # the store named, not the temporary export
     assert claim.check(v, v) == (True, "identical")
     grown = json.loads(json.dumps(v))
     grown["rates"]["0.7"][0]["strain"] = 0.02

@@ -45,6 +45,8 @@ def test_report_judges_each_member_from_its_steady_start(sweep, tmp_path):
     assert all(set(x["cells"]) == {"0.3", "0.7"} for x in doc["sec4"])
     text = (tmp_path / "p.md").read_text()
     assert "missing: mu_s = 0.5 seed 0" in text and "(j) Delta tau_p - t_p" in text
+    for m in ("0.3", "0.7"):                   # the steady cell of each member, with its why
+        assert ssp.steady_cell(doc["rates"][m][0]) in text
     assert sum("analysing from strain" in m for m in logged) == 2
     logged.clear()
     ssp.report(sweep, tmp_path / "p.md", log=logged.append)
@@ -55,3 +57,16 @@ def test_no_finished_member_is_one_line(tmp_path):
     (tmp_path / "runs").mkdir()
     with pytest.raises(SystemExit, match="no finished member"):
         ssp.report(tmp_path, tmp_path / "p.md")
+
+
+@pytest.mark.parametrize("steady, cell", [
+    # the paper-preset member at strain 0.2: the test passes, the window is too short
+    ({"steady": False, "p": 0.0726, "n_values": 74168, "tau_int": 16908.85},
+     "no (p = 0.073, 4.4 integrated times)"),
+    ({"steady": True, "p": 0.38, "n_values": 60000, "tau_int": 2500.0},
+     "yes (p = 0.38, 24.0 integrated times)"),
+    ({"steady": False, "start": None, "reason": "no candidate start leaves 30 %"},
+     "no (too few frames for the test)"),
+])
+def test_the_steady_cell_says_why(steady, cell):
+    assert ssp.steady_cell({"steady": steady}) == cell

@@ -51,7 +51,10 @@ def sweep_paper(store=None, md=None):
         shear_rolling.export(folder, dest / "runs" / folder.name, log=lambda m: None)
         units = _stamped.merge(units, shear_rolling.arrays(folder)[-1])
     doc = shear_sweep_paper.report(dest, **({} if md is None else {"md": md}),
-                                   log=lambda m: None)
+                                   log=lambda m: None,
+                                   source="the committed segmented members of "
+                                          "`validation/runs/shear_rolling/` (`python "
+                                          "validation/shear_rolling.py run`), exported")
     rates = {m: [{k: r[k] for k in ("seed", "rate", "phases", "steps", "strain", "partial")}
                  | {"window_from": r["steady"]["window_from"], "steady": r["steady"]["steady"]}
                  for r in rs] for m, rs in doc["rates"].items()}
@@ -76,8 +79,8 @@ def reached(v):
 
 def show(v):
     rates = "; ".join(f"mu_s = {m}: " + " / ".join(
-        "no step past gamma0 yet" if r["rate"] is None else f"{r['rate']:.3f}" for r in rs)
-                      + f" per step (paper {v['paper'][m]:.3f})"
+        "no step past gamma0 yet" if r["rate"] is None else f"{r['rate']:.3f} per step"
+        for r in rs) + f" (paper {v['paper'][m]:.3f} per step)"
                       for m, rs in sorted(v["rates"].items(), key=lambda kv: -float(kv[0])))
     sec4 = "; ".join(f"{x['id']} " + "/".join(
         SHORT[c] for _, c in sorted(x["cells"].items(), key=lambda kv: float(kv[0])))
