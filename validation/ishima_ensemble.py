@@ -36,13 +36,14 @@ import _packings  # noqa: E402
 from fricstab.analysis.stability import G_TOL, packing_stability  # noqa: E402
 from fricstab.analysis.sparse_spectrum import ZERO_CLUSTER  # noqa: E402
 from fricstab.engine.newton import touching  # noqa: E402
-from fricstab.errors import ParameterError  # noqa: E402
+from fricstab.errors import ConvergenceError, ParameterError  # noqa: E402
 from fricstab.scenes.packing_friction import backbone, frictional, material  # noqa: E402
 
 PHIS = (0.83, 0.84, 0.85, 0.86, 0.87, 0.88, 0.89, 0.90)
 SAMPLES = {1024: 5, 4096: 10}
 RULE = ("excluded: no rigid backbone (unjammed), forces not balanced to 1e-6 of the mean "
-        "contact force (marginal, at the jamming threshold), a real eigenvalue of M^-1 K above "
+        "contact force or a compression (FIRE) that does not converge (marginal, at the jamming "
+        "threshold), a real eigenvalue of M^-1 K above "
         f"{ZERO_CLUSTER:g} |A|_inf beyond the translations (a saddle), or G(0) < -{G_TOL:g} "
         "|G_A| (unstable to shear); the frictionless backbone, fricstab.analysis.stability")
 
@@ -55,7 +56,15 @@ def one(n, phi, seed, log=print):
     """The manifest row of one packing (made or read from the cache)."""
     cached = (_packings.CACHE / f"v{_packings.PROTOCOL}_n{n}_phi{phi:g}_s{seed}.npz").exists()
     t0 = time.perf_counter()
-    p = _packings.packing(n, phi, seed)
+    try:
+        p = _packings.packing(n, phi, seed)
+    except ConvergenceError as exc:   # FIRE stalled: a packing at the jamming threshold
+        reason = f"marginal: the compression did not converge: {exc}"
+        log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
+        return {"n": n, "phi": phi, "seed": seed, "make_seconds": time.perf_counter() - t0,
+                "judge_seconds": 0.0, "from_cache": False, "backbone": None,
+                "rattlers": None, "z_mean": None,
+                "stability": {"stable": False, "reason": reason}, "use": False}
     made = 0.0 if cached else time.perf_counter() - t0
     t0 = time.perf_counter()
     try:

@@ -67,3 +67,23 @@ def test_a_marginal_packing_is_excluded_not_fatal(tmp_path, monkeypatch):
     row = ens.one(32, 0.9, 0, log=lambda m: None)
     assert not row["use"] and row["stability"]["reason"].startswith("marginal")
     assert "4.4e-15" in row["stability"]["reason"]
+
+
+def test_a_compression_that_does_not_converge_is_excluded_not_fatal(tmp_path, monkeypatch):
+    """FIRE can stall at the jamming threshold (N = 4,096, phi = 0.84, seed 0: max |F| =
+    4.5e-10 after 5e6 iterations, against 1e-14): the row is marked marginal with the
+    solver's message, nothing is cached, and the paper run skips that packing's pieces.
+    Here FIRE is given 50 iterations, which cannot reach 1e-14 from a random start."""
+    import _packings
+    import ishima_ensemble as ens
+    monkeypatch.setattr(_packings, "CACHE", tmp_path / "packings")
+    real = _packings.make_packing
+    monkeypatch.setattr(_packings, "make_packing",
+                        lambda n, phi, seed, **k: real(n, phi, seed, max_iter=50, **k))
+    row = ens.one(32, 0.9, 0, log=lambda m: None)
+    assert not row["use"] and row["backbone"] is None
+    reason = row["stability"]["reason"]
+    assert reason.startswith("marginal: the compression did not converge")
+    assert "did not converge" in reason.split("converge:", 1)[1]      # the solver's own words
+    assert not list((tmp_path / "packings").glob("*.npz"))             # no half-made packing
+    assert ens.summary([row])["32/0.9"]["excluded"][0]["reason"] == reason
