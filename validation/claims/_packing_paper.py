@@ -151,7 +151,7 @@ def _g_show(v):
 
 
 def _routes_verdict(v):
-    worst = max(max(r["modes"] or 0.0, r["step"]) for r in v["routes"].values())
+    worst = max(max(r["modes"] or 0.0, r["step"] or 0.0) for r in v["routes"].values())
     return Verdict("agrees" if worst <= 1e-2 else "disagrees",
                    f"largest |mode sum or step strain / solve - 1| {worst:.1e}; agree if "
                    "<= 1e-2 (the paper's 'quantitative agreement')")
