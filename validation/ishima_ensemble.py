@@ -52,6 +52,16 @@ def _key(n, phi, seed):
     return f"n{n}_phi{phi:g}_s{seed}"
 
 
+def _excluded(n, phi, seed, reason, log, *, make_seconds, judge_seconds, from_cache,
+              backbone, rattlers, z_mean=None):
+    """The manifest row of a packing the rule excludes before its stability is judged."""
+    log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
+    return {"n": n, "phi": phi, "seed": seed, "make_seconds": make_seconds,
+            "judge_seconds": judge_seconds, "from_cache": from_cache, "backbone": backbone,
+            "rattlers": rattlers, "z_mean": z_mean,
+            "stability": {"stable": False, "reason": reason}, "use": False}
+
+
 def one(n, phi, seed, log=print):
     """The manifest row of one packing (made or read from the cache)."""
     cached = (_packings.CACHE / f"v{_packings.PROTOCOL}_n{n}_phi{phi:g}_s{seed}.npz").exists()
@@ -59,12 +69,9 @@ def one(n, phi, seed, log=print):
     try:
         p = _packings.packing(n, phi, seed)
     except ConvergenceError as exc:   # FIRE stalled: a packing at the jamming threshold
-        reason = f"marginal: the compression did not converge: {exc}"
-        log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
-        return {"n": n, "phi": phi, "seed": seed, "make_seconds": time.perf_counter() - t0,
-                "judge_seconds": 0.0, "from_cache": False, "backbone": None,
-                "rattlers": None, "z_mean": None,
-                "stability": {"stable": False, "reason": reason}, "use": False}
+        return _excluded(n, phi, seed, f"marginal: the compression did not converge: {exc}",
+                         log, make_seconds=time.perf_counter() - t0, judge_seconds=0.0,
+                         from_cache=False, backbone=None, rattlers=None)
     made = 0.0 if cached else time.perf_counter() - t0
     t0 = time.perf_counter()
     try:
@@ -72,24 +79,20 @@ def one(n, phi, seed, log=print):
     except ParameterError as exc:     # below jamming: nothing rigid to judge or to measure
         if "no rigid backbone" not in str(exc):
             raise
-        reason = "unjammed: no rigid backbone (every particle a rattler, Z <= 2)"
-        log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
-        return {"n": n, "phi": phi, "seed": seed, "make_seconds": made,
-                "judge_seconds": time.perf_counter() - t0, "from_cache": cached,
-                "backbone": 0, "rattlers": int(n), "z_mean": 0.0,
-                "stability": {"stable": False, "reason": reason}, "use": False}
+        return _excluded(n, phi, seed,
+                         "unjammed: no rigid backbone (every particle a rattler, Z <= 2)", log,
+                         make_seconds=made, judge_seconds=time.perf_counter() - t0,
+                         from_cache=cached, backbone=0, rattlers=int(n), z_mean=0.0)
     fr = frictional(bb, material("hertz"))
     try:
         s = packing_stability(fr.system, fr.state)
     except ParameterError as exc:     # at the threshold: contact forces at rounding level
         if "not force-balanced" not in str(exc):
             raise
-        reason = f"marginal: {str(exc).split(';')[0]} (a packing at the jamming threshold)"
-        log(f"  N = {n} phi = {phi:g} seed {seed}: EXCLUDED ({reason})")
-        return {"n": n, "phi": phi, "seed": seed, "make_seconds": made,
-                "judge_seconds": time.perf_counter() - t0, "from_cache": cached,
-                "backbone": int(bb.n), "rattlers": int(n - bb.n), "z_mean": None,
-                "stability": {"stable": False, "reason": reason}, "use": False}
+        return _excluded(n, phi, seed,
+                         f"marginal: {str(exc).split(';')[0]} (a packing at the jamming threshold)",
+                         log, make_seconds=made, judge_seconds=time.perf_counter() - t0,
+                         from_cache=cached, backbone=int(bb.n), rattlers=int(n - bb.n))
     row = {"n": n, "phi": phi, "seed": seed, "make_seconds": made,
            "judge_seconds": time.perf_counter() - t0, "from_cache": cached,
            "backbone": int(bb.n), "rattlers": int(n - bb.n),

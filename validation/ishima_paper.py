@@ -128,6 +128,8 @@ def rigidity_piece(bb):
     open, the relaxation's Jacobian turns singular: N = 4,096, phi = 0.84, seed 1, z = 4.04):
     there the step-strain check is NaN and ``step_failed`` says why (the linear response, the
     solve, stands)."""
+    # Imported here, not at the top: a change to this module's top level would change the
+    # fingerprint of its module frame, which every stored piece traces, and stale them all.
     from fricstab.errors import ConvergenceError
     g_a, g_na = [], []
     for kt in RIG_KTS:
@@ -279,6 +281,12 @@ def ensemble_table(got):
     return rows, ishima_ensemble.summary(rows)
 
 
+def _worst(a):
+    """The largest finite entry of ``a`` (a route check over the seeds that have it); None where
+    no seed has it (no mode sum at this N, or every step strain failed)."""
+    return float(np.nanmax(a)) if np.isfinite(a).any() else None
+
+
 def rigidity_tables(got, n, phis):
     """Per phi: G, G_A, G_NA on RIG_KTS (mean, sd, se), the roots, the Fig. 4 route checks."""
     out = {}
@@ -300,12 +308,9 @@ def rigidity_tables(got, n, phis):
             "g_per_seed": g.tolist(), "g_na_per_seed": g_na.tolist(),
             "roots": [float(x["root"]) for x in r],
             "root": _ms([float(x["root"]) for x in r]),
-            "modes_vs_solve": float(np.nanmax(np.abs(modes / check - 1)))
-            if np.isfinite(modes).any() else None,
-            "step_vs_solve": float(np.nanmax(np.abs(step / check - 1)))
-            if np.isfinite(step).any() else None,
-            "step_over_model": float(np.nanmax(np.abs(step - check) / np.maximum(err, 1e-300)))
-            if np.isfinite(step).any() else None,
+            "modes_vs_solve": _worst(np.abs(modes / check - 1)),
+            "step_vs_solve": _worst(np.abs(step / check - 1)),
+            "step_over_model": _worst(np.abs(step - check) / np.maximum(err, 1e-300)),
             # the packings whose finite strain broke their contact network (rigidity_piece)
             "step_failed": {str(s): str(x["step_failed"]) for s, x in zip(seeds, r)
                             if str(x.get("step_failed", ""))},
