@@ -251,6 +251,20 @@ def memory_verdict(v):
         f"while the slope stays"))
 
 
+def _on_fixed_segments(name, title, compute, show, verdict, inputs, paper):
+    """A seconds-tier claim on the paper-preset member's first ``len(inputs)`` segments (fixed
+    once written: the record does not go stale while the member is extended)."""
+    return Claim(name, "shear", title, "seconds",
+                 f"python validation/reproduce.py --claim {name} (reads the committed segments "
+                 f"0-{len(inputs) - 1} of validation/runs/shear_rolling/mus0.7_seed0)", compute,
+                 show=show,
+                 tolerance="the same segments give the same numbers to the bit (deterministic)",
+                 check=lambda a, b: (a == b, "identical" if a == b else "the same segments gave "
+                                     "other numbers"),
+                 paper=paper, verdict=verdict, texts={"verdict": lambda v: str(verdict(v))},
+                 inputs=inputs)
+
+
 CLAIMS = [
     Claim("shear.sweep_paper", "shear",
           "the mu_s sweep at the paper's scale (paper preset, mu_s = 0.7 / 0.5 / 0.3 / 0.1, "
@@ -263,34 +277,21 @@ CLAIMS = [
           paper="18,000 / 46,000 / 52,000 / 42,000 phases in ~130,000 output steps at mu_s = "
                 "0.1 / 0.3 / 0.5 / 0.7 (Sec. 4); the eight statements of Sec. 4 on Fig. 13",
           verdict=verdict, job="shear.sweep_paper", inputs=STORED),
-    Claim("shear.paper_window", "shear",
-          "is the paper's analysis window a steady state? tau of the paper-preset member "
-          "(mu_s = 0.7, seed 0) from strain 2.2 % to 11.56 %: the means of the window's halves "
-          "(standard errors from each half's integrated autocorrelation time), tau per 1 %, "
-          "the height, and tau's steady start on independent blocks", "seconds",
-          "python validation/reproduce.py --claim shear.paper_window (reads the committed "
-          "segments 0-32 of validation/runs/shear_rolling/mus0.7_seed0)", paper_window,
-          show=window_show,
-          tolerance="the same segments give the same numbers to the bit (deterministic)",
-          check=lambda a, b: (a == b, "identical" if a == b else "the same segments gave "
-                              "other numbers"),
-          paper="statistics over ~130,000 output steps from strain 2.2 % (Sec. 2), taken as "
-                "the steady state",
-          verdict=window_verdict, texts={"verdict": lambda v: str(window_verdict(v))},
-          inputs=WINDOW_STORED),
-    Claim("shear.member_memory", "shear",
-          "how long is tau's memory in the paper-preset member (mu_s = 0.7, seed 0), and how "
-          "much strain does a steady window need? tau's integrated autocorrelation time over "
-          "windows of 0.5-16 % of strain, from the paper's window's end to strain 0.3",
-          "seconds",
-          "python validation/reproduce.py --claim shear.member_memory (reads the committed "
-          "segments 0-84 of validation/runs/shear_rolling/mus0.7_seed0)", member_memory,
-          show=memory_show,
-          tolerance="the same segments give the same numbers to the bit (deterministic)",
-          check=lambda a, b: (a == b, "identical" if a == b else "the same segments gave "
-                              "other numbers"),
-          paper="statistics over ~130,000 output steps (9.4 % of strain) from strain 2.2 % "
-                "(Sec. 2), taken as the steady state",
-          verdict=memory_verdict, texts={"verdict": lambda v: str(memory_verdict(v))},
-          inputs=MEMORY_STORED),
+    _on_fixed_segments(
+        "shear.paper_window",
+        "is the paper's analysis window a steady state? tau of the paper-preset member "
+        "(mu_s = 0.7, seed 0) from strain 2.2 % to 11.56 %: the means of the window's halves "
+        "(standard errors from each half's integrated autocorrelation time), tau per 1 %, "
+        "the height, and tau's steady start on independent blocks",
+        paper_window, window_show, window_verdict, WINDOW_STORED,
+        "statistics over ~130,000 output steps from strain 2.2 % (Sec. 2), taken as the "
+        "steady state"),
+    _on_fixed_segments(
+        "shear.member_memory",
+        "how long is tau's memory in the paper-preset member (mu_s = 0.7, seed 0), and how "
+        "much strain does a steady window need? tau's integrated autocorrelation time over "
+        "windows of 0.5-16 % of strain, from the paper's window's end to strain 0.3",
+        member_memory, memory_show, memory_verdict, MEMORY_STORED,
+        "statistics over ~130,000 output steps (9.4 % of strain) from strain 2.2 % (Sec. 2), "
+        "taken as the steady state"),
 ]
