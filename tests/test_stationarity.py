@@ -4,7 +4,7 @@ steady start, and its errors on bad input."""
 import numpy as np
 import pytest
 
-from fricstab.analysis.autocorrelation import integrated_time, memory_blocks
+from fricstab.analysis.autocorrelation import integrated_time, memory_blocks, memory_growth
 from fricstab.analysis.stationarity import (memory_trend_test, steady_start, steady_window,
                                             trend_test)
 from fricstab.errors import ParameterError
@@ -161,3 +161,34 @@ def test_memory_blocks_size_the_test_by_the_memory():
         integrated_time(np.r_[np.ones(10), np.inf])
     with pytest.raises(ParameterError, match="one-dimensional"):
         integrated_time(np.ones((3, 3)))
+
+
+def test_memory_growth_tells_a_finite_memory_from_an_unresolved_one():
+    """AR(1) with phi = 0.9 (tau_int 19 values) against a random walk, on 100,000 values
+    spaced 1e-4.  Error model: Geyer's estimate from windows of >= 5,000 values scatters by
+    ~10 % (test_integrated_time_of_correlated_noise), so over a factor 8 in L the slope stays
+    within ~0.1 of 0, inside RESOLVED_SLOPE = 0.25; a random walk's estimated time grows with
+    the window (slope ~1; 0.6-1.4 allowed)."""
+    rng = np.random.default_rng(3)
+    t = 1e-4 * np.arange(100_000)
+    lengths = (4.0, 0.5, 1.0, 2.0)               # any order: the rows come sorted
+    finite = memory_growth(t, _ar1(rng, t.size)[0], lengths)
+    assert finite["resolved"] and abs(finite["slope"]) <= 0.25
+    assert [r["windows"] for r in finite["rows"]] == [20, 10, 5, 2]
+    assert finite["rows"][-1]["tau_int"] == pytest.approx(19e-4, rel=0.3)
+    assert finite["needed"] == pytest.approx(20 * finite["rows"][-1]["tau_int"], rel=1e-12)
+    walk = memory_growth(t, np.cumsum(rng.normal(size=t.size)), lengths)
+    assert not walk["resolved"] and 0.6 <= walk["slope"] <= 1.4
+    part = memory_growth(t, np.cumsum(rng.normal(size=t.size)), (0.5, 1.0), span=(2.0, 4.0))
+    assert [r["windows"] for r in part["rows"]] == [4, 2]
+
+
+@pytest.mark.parametrize("t, x, lengths, match", [
+    (np.arange(10.0), np.ones(9), (2, 4), "one length"),
+    (np.arange(10.0)[::-1], np.ones(10), (2, 4), "must increase"),
+    (np.arange(10.0), np.ones(10), (1, 4), "longer than two samples"),
+    (np.arange(10.0), np.ones(10), (4, 20), "at least 2 are needed"),
+])
+def test_memory_growth_bad_input(t, x, lengths, match):
+    with pytest.raises(ParameterError, match=match):
+        memory_growth(t, x, lengths)

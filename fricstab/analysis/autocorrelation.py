@@ -20,7 +20,8 @@ import numpy as np
 
 from fricstab.errors import ParameterError
 
-__all__ = ["BLOCK_OVER_TAU", "MAX_BLOCKS", "MIN_BLOCKS", "integrated_time", "memory_blocks"]
+__all__ = ["BLOCK_OVER_TAU", "MAX_BLOCKS", "MIN_BLOCKS", "RESOLVED_SLOPE", "integrated_time",
+           "memory_blocks", "memory_growth"]
 
 #: the most and the fewest blocks of :func:`memory_blocks` (module docstring)
 MAX_BLOCKS, MIN_BLOCKS = 20, 10
@@ -28,6 +29,10 @@ MAX_BLOCKS, MIN_BLOCKS = 20, 10
 #: independent of its neighbour's (block means of an AR(1) series then have a lag-1
 #: correlation ~0.16: :mod:`tests.test_stationarity`)
 BLOCK_OVER_TAU = 2.0
+#: :func:`memory_growth` calls the memory resolved where log tau_int against log L has a slope
+#: of at most this size (a finite memory: ~0, within the estimator's ~10 % scatter over a factor
+#: 8 in L; a random walk: ~1; both in :mod:`tests.test_stationarity`)
+RESOLVED_SLOPE = 0.25
 
 
 def integrated_time(x):
@@ -63,3 +68,45 @@ def memory_blocks(x):
     g = integrated_time(x)
     n = int(np.clip(x.size // (BLOCK_OVER_TAU * g), MIN_BLOCKS, MAX_BLOCKS))
     return n, g, bool(x.size // n >= BLOCK_OVER_TAU * g)
+
+
+def memory_growth(t, x, lengths, span=None):
+    """Does the memory of ``x`` level off?  ``span = (lo, hi)`` of ``t`` (default: all of it)
+    is cut into non-overlapping windows of each length L in ``lengths`` (units of ``t``, a
+    strain say); per L, the median over its windows of :func:`integrated_time` (converted to
+    units of ``t`` by the median spacing).  A series with a finite memory gives the same time
+    at every L much longer than it; one whose time grows with L has memory on the scale of the
+    longest window (slow excursions, a drift), and the time at the longest L is a lower bound.
+
+    Returns a dict: ``rows`` (``length``, ``windows``, ``tau_int``), ``slope`` (least squares
+    of log tau_int against log L), ``resolved`` (``|slope| <= RESOLVED_SLOPE``), ``needed``
+    (the span of ``MIN_BLOCKS x BLOCK_OVER_TAU`` integrated times at the longest L, what a
+    steady window asks for: :func:`fricstab.analysis.stationarity.steady_window`; a lower
+    bound where not ``resolved``)."""
+    t, x = np.asarray(t, float), np.asarray(x, float)
+    if t.shape != x.shape or t.ndim != 1 or t.size < 3:
+        raise ParameterError(f"t and x must be one-dimensional, of one length, at least 3 "
+                             f"values (got {t.shape} and {x.shape})")
+    if np.any(np.diff(t) <= 0):
+        raise ParameterError("t must increase (a strain or time axis)")
+    lo, hi = (float(t[0]), float(t[-1])) if span is None else map(float, span)
+    spacing = float(np.median(np.diff(t)))
+    rows = []
+    for length in sorted(float(v) for v in lengths):
+        if not length > 2 * spacing:
+            raise ParameterError(f"window length {length!r}: longer than two samples "
+                                 f"({2 * spacing:g}) needed")
+        # a window [a, a + L) holds L / spacing samples: the span's samples fill
+        # (hi - lo + spacing) / L of them
+        starts = lo + length * np.arange(int((hi - lo + spacing) / length + 1e-9))
+        times = [integrated_time(x[(t >= a) & (t < a + length)]) * spacing for a in starts]
+        if times:
+            rows.append({"length": length, "windows": len(times),
+                         "tau_int": float(np.median(times))})
+    if len(rows) < 2:
+        raise ParameterError(f"windows of {len(rows)} length(s) fit in the span {lo:g}..{hi:g}: "
+                             "at least 2 are needed to see whether the memory levels off")
+    slope = float(np.polyfit(np.log([r["length"] for r in rows]),
+                             np.log([r["tau_int"] for r in rows]), 1)[0])
+    return {"rows": rows, "slope": slope, "resolved": bool(abs(slope) <= RESOLVED_SLOPE),
+            "needed": float(MIN_BLOCKS * BLOCK_OVER_TAU * rows[-1]["tau_int"])}

@@ -184,17 +184,11 @@ MEMORY_LENGTHS = (0.005, 0.01, 0.02, 0.04, 0.08, 0.16)
 
 def member_memory(store=None, span=MEMORY_SPAN, lengths=MEMORY_LENGTHS):
     """How long is tau's memory in the paper-preset member (mu_s = 0.7, seed 0), and so how
-    much strain does a steady window need?  The span is cut into windows of each length L
-    (non-overlapping, from the span's start); per L, the median over its windows of tau's
-    integrated autocorrelation time (in strain,
-    :func:`fricstab.analysis.autocorrelation.integrated_time`).  A series with a finite memory
-    gives the same time at every L much longer than it; one whose time grows with L has memory
-    on the scale of the longest window (slow excursions of tau), and the time at the longest L
-    is then a lower bound.  ``slope``: the least-squares slope of log tau_int against log L;
-    ``needed``: the strain of a window of ``MIN_BLOCKS x BLOCK_OVER_TAU`` integrated times at
-    the longest L's time (what :func:`fricstab.analysis.stationarity.steady_window` asks for),
-    a lower bound where the slope is not ~0; ``paper_window_times``: the paper's window's
-    length in those times."""
+    much strain does a steady window need?  tau's integrated autocorrelation time against the
+    window length over ``span`` of strain
+    (:func:`fricstab.analysis.autocorrelation.memory_growth`: ``rows``, ``slope``,
+    ``resolved``, ``needed``), and ``paper_window_times``: the paper's window's length in
+    integrated times at the longest window."""
     from .shear import _validation
     _validation()
     import shear_rolling
@@ -206,27 +200,12 @@ def member_memory(store=None, span=MEMORY_SPAN, lengths=MEMORY_LENGTHS):
 
 
 def memory_of(strain, tau, span, lengths):
-    """:func:`member_memory`'s numbers for a series ``tau`` against ``strain``: ``rows``
-    (length, windows, median tau_int in strain), ``slope``, ``needed``,
-    ``paper_window_times``."""
-    import numpy as np
-
-    from fricstab.analysis.autocorrelation import BLOCK_OVER_TAU, MIN_BLOCKS, integrated_time
-    lo, hi = span
-    dstrain = float(np.median(np.diff(strain)))
-    rows = []
-    for length in lengths:
-        starts = lo + length * np.arange(int((hi - lo) / length + 1e-9))
-        times = [integrated_time(tau[(strain >= a) & (strain < a + length)]) * dstrain
-                 for a in starts]
-        if times:
-            rows.append({"length": float(length), "windows": len(times),
-                         "tau_int": float(np.median(times))})
-    ls, ts = np.log([r["length"] for r in rows]), np.log([r["tau_int"] for r in rows])
-    slope = float(np.polyfit(ls, ts, 1)[0]) if len(rows) > 1 else float("nan")
-    longest = rows[-1]["tau_int"]
-    return {"rows": rows, "slope": slope, "needed": float(MIN_BLOCKS * BLOCK_OVER_TAU * longest),
-            "paper_window_times": float((PAPER_WINDOW[1] - PAPER_WINDOW[0]) / longest)}
+    """:func:`member_memory`'s numbers for a series ``tau`` against ``strain``
+    (:func:`fricstab.analysis.autocorrelation.memory_growth`) and ``paper_window_times``."""
+    from fricstab.analysis.autocorrelation import memory_growth
+    got = memory_growth(strain, tau, lengths, span)
+    return {**got, "paper_window_times":
+            float((PAPER_WINDOW[1] - PAPER_WINDOW[0]) / got["rows"][-1]["tau_int"])}
 
 
 def memory_show(v):
@@ -241,14 +220,14 @@ def memory_show(v):
 
 def memory_verdict(v):
     """Measured: whether tau's memory is resolved (the integrated time levels off with L)."""
-    resolved = abs(v["slope"]) <= 0.25
+    from fricstab.analysis.autocorrelation import RESOLVED_SLOPE
+    need = f"{100 * v['needed']:.0f} % of strain"
     return Verdict("measured", (
-        f"memory resolved (slope {v['slope']:.2f}): a steady window needs "
-        f"{100 * v['needed']:.0f} % of strain" if resolved else
+        f"memory resolved (slope {v['slope']:.2f}): a steady window needs {need}"
+        if v["resolved"] else
         f"memory not resolved: the integrated time grows with the window (slope "
-        f"{v['slope']:.2f}; resolved if |slope| <= 0.25), so {100 * v['needed']:.0f} % of "
-        f"strain is a lower bound for a steady window, and extending the run lengthens it "
-        f"while the slope stays"))
+        f"{v['slope']:.2f}; resolved if |slope| <= {RESOLVED_SLOPE:g}), so {need} is a lower "
+        f"bound for a steady window, and extending the run lengthens it while the slope stays"))
 
 
 def _on_fixed_segments(name, title, compute, show, verdict, inputs, paper):
