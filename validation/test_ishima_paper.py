@@ -185,6 +185,38 @@ def test_the_report_of_what_is_done_computes_nothing(quick, tmp_path):
     assert "(the scale reached" in (tmp_path / "ishima_paper_quick.md").read_text()
 
 
+def test_the_paper_tier_record_reports_the_store_as_far_as_it_got(quick, monkeypatch):
+    """The paper tier's claims (days of compute) record the committed store's report: their
+    compute asks for no missing piece, their inputs are the store's pieces (a piece added
+    makes the record stale), every N = 4,096 cell states the pieces done, and a store that
+    grew is judged afresh rather than failing the 3-s.e. check."""
+    from claims import _packing_paper
+    from fricstab.io.files import json_clean
+    seen = {}
+
+    def fake_run(tier, out, compute_missing=True):
+        seen.update(tier=tier, compute_missing=compute_missing)
+        return {**quick[0], "units": {}}
+    monkeypatch.setattr(ip, "run", fake_run)
+    values = json.loads(json.dumps(json_clean(_packing_paper.compute().values)))
+    assert seen == {"tier": "paper", "compute_missing": False}
+    claims = {c.name: c for c in _packing_paper.claims()}
+    store = _packing_paper.stored()
+    assert store and all(p.startswith("validation/runs/ishima_paper/n") for p in store)
+    for name in ("g_little", "bands", "rot_prefactor", "rattlers", "dos_phi"):
+        c = claims[f"packing.paper_{name}"]
+        assert c.inputs == store and "--report-only" in c.command
+        assert f"{values['pieces'][0]} of {values['pieces'][1]} pieces" in c.show(values)
+    assert claims["packing.paper_sign_change"].inputs == ()
+    grown = {**values, "pieces": [values["pieces"][0] + 1, values["pieces"][1]],
+             "g": {}, "sign_change": {}}
+    ok, said = claims["packing.paper_g_little"].check(values, grown)
+    assert ok and "reached further" in said
+    moved = {**values, "g": {phi: {k: {**m, "mean": (m["mean"] or 0) + 1}
+                                   for k, m in row.items()} for phi, row in values["g"].items()}}
+    assert not claims["packing.paper_g_little"].check(values, moved)[0]
+
+
 def test_the_paper_tier_keeps_its_pieces_in_the_committed_store(monkeypatch):
     """The paper tier runs over many sittings, possibly on other machines: its pieces and the
     packings they were computed on go to ``validation/runs/ishima_paper`` (committed), the

@@ -22,21 +22,33 @@ COMMAND_1024 = ("python validation/ishima_paper.py --tier paper1024 (N = 1,024 x
                 "phi = 0.83-0.90: the paper tier's N = 1,024 part; the same committed store)")
 
 
-def _compute(tier):
+def _compute(tier, compute_missing=True):
     import sys
     from pathlib import Path
     here = Path(__file__).resolve().parents[1]
     sys.path.insert(0, str(here))
     import ishima_paper
     from fricstab.io.files import json_clean
-    doc = ishima_paper.run(tier, out=here)
+    doc = ishima_paper.run(tier, out=here, compute_missing=compute_missing)
     out = tuple(f"validation/ishima_paper_{tier}{x}" for x in (".md", ".json", ".png"))
     return Result(json_clean(values_of(doc)), outputs=out, units=doc["units"])
 
 
 def compute():
-    """The paper tier (N = 1,024 and 4,096)."""
-    return _compute("paper")
+    """The paper tier (N = 1,024 and 4,096) as far as the committed store got: it computes
+    nothing (days on one core, run over sittings by ``ishima_paper.py --tier paper``); every
+    claim states the pieces done."""
+    return _compute("paper", compute_missing=False)
+
+
+def stored():
+    """Every piece of the committed store now: the paper tier's inputs, so that a piece added
+    makes its record stale (its numbers are no longer what the command gives) until it is
+    regenerated."""
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[2]
+    return tuple(sorted(p.relative_to(root).as_posix() for p in
+                        (root / "validation" / "runs" / "ishima_paper").glob("n*_phi*_s*_*.npz")))
 
 
 def compute_1024():
@@ -80,6 +92,9 @@ def _m(m, fmt=".3g"):
 
 
 def _check(old, new):
+    if old["pieces"] != new["pieces"]:
+        return True, (f"the store reached further ({old['pieces'][0]} -> {new['pieces'][0]} "
+                      "pieces): new numbers, judged afresh")
     for key, field in (("sign_change", None), ("g", "g")):
         for phi, a in old[key].items():
             pairs = [(a, new[key].get(phi, {}))] if field is None else \
@@ -158,7 +173,8 @@ def _routes_verdict(v):
 
 
 def _limit_show(v):
-    return "; ".join(f"phi = {phi}: {_m(r['0.0001'], '+.2g')}" for phi, r in v["limit"].items())
+    return "; ".join(f"phi = {phi}: {_m(r['0.0001'], '+.2g')} ({r['0.0001']['count']})"
+                     for phi, r in v["limit"].items()) + f"; {_scale(v)}"
 
 
 def _limit_verdict(v):
@@ -212,7 +228,7 @@ def _bands_show(v):
                                            for r in rows))
     b2 = v["fig7_b2"]
     return "; ".join(out) + (f"; Fig. 7 b2: {b2.get('coupled', 0)} of {b2.get('near', 0)} modes "
-                             "near omega t0 = 1.3e-2 coupled")
+                             f"near omega t0 = 1.3e-2 coupled; {_scale(v)}")
 
 
 def _bands_verdict(v):
@@ -242,7 +258,8 @@ def _fig10_show(v):
     nz = v["fig10"]["noise"]
     return "; ".join(f"{kt}: peak {_m(r['peak'])}, median {_m(r['median'])}"
                      + (f", collapse {r['collapse']:.3f}" if "collapse" in r else "")
-                     for kt, r in rows.items()) + (f"; noise {nz:.3f}" if nz else "")
+                     for kt, r in rows.items()) + (f"; noise {nz:.3f}" if nz else "") \
+        + f"; {_scale(v)}"
 
 
 def _fig10_verdict(v):
@@ -259,7 +276,7 @@ def _fig10_verdict(v):
 def _fig14_show(v):
     return "; ".join(f"kT/kN = {kt}: {r['modes']} modes on rattlers, median p N "
                      f"{r['pN_median'] if r['pN_median'] is None else format(r['pN_median'], '.3g')}"
-                     for kt, r in v["fig14"].items())
+                     for kt, r in v["fig14"].items()) + f"; {_scale(v)}"
 
 
 def _fig14_verdict(v):
@@ -274,10 +291,10 @@ def _fig14_verdict(v):
 def _fig16_show(v):
     f = v["fig16"]
     if "rot_peak" not in f:
-        return f["why"]
+        return f"{f['why']}; {_scale(v)}"
     return (f"rotational peak vs phi: rho {f['rot_peak']['rho']:+.2f} (p {f['rot_peak']['p']:.2g}); "
             f"translational low end: rho {f['trans_low']['rho']:+.2f} "
-            f"(p {f['trans_low']['p']:.2g})")
+            f"(p {f['trans_low']['p']:.2g}); {_scale(v)}")
 
 
 def _fig16_verdict(v):
@@ -287,12 +304,16 @@ def _fig16_verdict(v):
 
 
 def claims():
+    store = stored()
+    command = COMMAND[:-1] + "; the record reports the store as far as it got: --report-only)"
+
     def c(short, title, paper, show, verdict, n1024=False):
         said = lambda v: (lambda x: f"**{x.label}** ({x.detail})")(verdict(v))  # noqa: E731
         return Claim(f"packing.paper_{short}", "packing", title, "hours",
-                     COMMAND_1024 if n1024 else COMMAND, compute_1024 if n1024 else compute,
+                     COMMAND_1024 if n1024 else command, compute_1024 if n1024 else compute,
                      show, TOL, _check, paper=paper, verdict=verdict,
-                     job=JOB_1024 if n1024 else JOB, texts={"verdict": said})
+                     job=JOB_1024 if n1024 else JOB, texts={"verdict": said},
+                     inputs=() if n1024 else store)
     fig16 = ("\"the rotational band shifts to a lower frequency region and the plateau of the "
              "translational band becomes longer as the density approaches the jamming point\"")
     bands = ("gap for 1e-10 <= kT/kN <= 1e-8, partial overlap for 1e-6..1e-2, merged for >= "
