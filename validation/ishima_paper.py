@@ -23,7 +23,10 @@ the backbone (symmetric route: J = J^T in the unstrained packing) and of the who
 with its rattlers.  A packing the rule excludes is listed with its reason and enters no mean.
 
 ``--max-hours H`` stops after the piece that crosses H hours and writes the report of what is
-done (the scale reached is stated in it); ``--resume`` is implicit (the cache).  Writes
+done (the scale reached is stated in it); ``--resume`` is implicit (the cache).  Several runs
+share the work: start the command once per core (or on machines sharing the store), each with
+its own ``--out``; a run holds the packing whose pieces it computes (:func:`_hold`) and leaves
+a packing another live run holds to it.  Writes
 ``ishima_paper_<tier>.md``, ``.json`` and ``.png`` in ``--out``.
 """
 
@@ -49,6 +52,8 @@ import _stamped  # noqa: E402
 import ishima_ensemble  # noqa: E402
 from fricstab.analysis.dos import participation, rotational_peak, spectrum  # noqa: E402
 from fricstab.analysis.rigidity import linear_response, rigidity  # noqa: E402
+from fricstab.errors import ParameterError  # noqa: E402
+from fricstab.io.rundir import Lock  # noqa: E402
 from fricstab.protocols.stepstrain import step_strain  # noqa: E402
 from fricstab.scenes.packing_friction import Backbone, backbone  # noqa: E402
 
@@ -226,34 +231,72 @@ def compute(n, phi, seed, piece, log=print):
     return _stamped.cached(_path(n, phi, seed, piece), make, log=log)
 
 
+def _hold(n, phi, seed, log=print):
+    """Hold the packing ``(n, phi, seed)`` for this run while it computes the packing's pieces,
+    so that several runs of this script (one per core, or machines sharing the store) share
+    the work: a :class:`fricstab.io.rundir.Lock` in ``CACHE/.held/<key>/`` (git-ignored; a lock
+    whose run is gone, on this host, is taken over).  Returns the lock, or None (logged) when
+    another live run holds the packing: its pieces are left to that run."""
+    folder = CACHE / ".held" / ishima_ensemble._key(n, phi, seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    try:
+        return Lock(folder, "ishima_paper", " ".join(sys.argv)).acquire()
+    except ParameterError as exc:
+        log(f"  N = {n} phi = {phi:g} seed {seed}: left to another run ({exc})")
+        return None
+
+
+def _let_go(lock):
+    if lock is not None:
+        lock.release()
+        try:
+            lock.path.parent.rmdir()
+        except OSError:
+            pass            # another run holds it again, or it holds something else
+
+
 def run_pieces(tier, max_hours=None, log=print, compute_missing=True):
     """Compute (or read) every piece of ``tier`` (with ``compute_missing=False`` only read the
     fresh ones: the report of what is done); pieces of packings the rule excludes are
-    skipped.  Returns ``({(n, phi, seed, piece): arrays}, units, pending)``: ``pending`` the
-    pieces owed and not done (stopped by ``max_hours``)."""
+    skipped, and so are the pieces of a packing another run holds (:func:`_hold`).  Returns
+    ``({(n, phi, seed, piece): arrays}, units, pending)``: ``pending`` the pieces owed and not
+    done (stopped by ``max_hours``, or left to another run)."""
     todo = plan(tier)
     got, units, t0, excluded, pending = {}, {}, time.perf_counter(), set(), []
-    for i, (n, phi, seed, piece) in enumerate(todo):
-        if (n, phi, seed) in excluded:
-            continue                # an excluded packing's pieces are not owed
-        if max_hours is not None and time.perf_counter() - t0 > 3600 * max_hours:
-            if compute_missing:
-                log(f"stopped after {max_hours:g} h: {len(got)} pieces done")
-            compute_missing = False       # from here on: what the cache holds
-        a = time.perf_counter()
-        out = (compute(n, phi, seed, piece, log=log) if compute_missing
-               else _stamped.stored(_path(n, phi, seed, piece)))
-        if out is None:
-            pending.append((n, phi, seed, piece))
-            continue
-        spent = time.perf_counter() - a
-        if spent > 1.0:
-            log(f"  N = {n} phi = {phi:g} seed {seed}: {piece} ({spent:.0f} s; "
-                f"{i + 1} of {len(todo)})")
-        got[(n, phi, seed, piece)] = out
-        units = _stamped.merge(units, _stamped.units_of(out))
-        if piece == "ensemble" and not json.loads(out["row"])["use"]:
-            excluded.add((n, phi, seed))
+    held, lock, refused = None, None, set()  # the packing this run holds, its lock; others'
+    try:
+        for i, (n, phi, seed, piece) in enumerate(todo):
+            if (n, phi, seed) in excluded:
+                continue                # an excluded packing's pieces are not owed
+            if max_hours is not None and time.perf_counter() - t0 > 3600 * max_hours:
+                if compute_missing:
+                    log(f"stopped after {max_hours:g} h: {len(got)} pieces done")
+                compute_missing = False       # from here on: what the cache holds
+            if held != (n, phi, seed):
+                _let_go(lock)
+                held, lock = (n, phi, seed), None
+            a = time.perf_counter()
+            out = _stamped.stored(_path(n, phi, seed, piece))
+            if out is None and compute_missing and held not in refused:
+                if lock is None:
+                    lock = _hold(n, phi, seed, log)
+                    if lock is None:    # another run's: not asked again in this pass
+                        refused.add(held)
+                if lock is not None:
+                    out = compute(n, phi, seed, piece, log=log)
+            if out is None:
+                pending.append((n, phi, seed, piece))
+                continue
+            spent = time.perf_counter() - a
+            if spent > 1.0:
+                log(f"  N = {n} phi = {phi:g} seed {seed}: {piece} ({spent:.0f} s; "
+                    f"{i + 1} of {len(todo)})")
+            got[(n, phi, seed, piece)] = out
+            units = _stamped.merge(units, _stamped.units_of(out))
+            if piece == "ensemble" and not json.loads(out["row"])["use"]:
+                excluded.add((n, phi, seed))
+    finally:
+        _let_go(lock)
     return got, units, pending
 
 

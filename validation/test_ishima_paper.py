@@ -271,3 +271,45 @@ def test_a_step_strain_that_breaks_the_packing_is_reported_not_fatal(tmp_path, m
     assert t["step_failed"] == {"1": str(bad["step_failed"])}
     want = float(np.max(np.abs(good["g_step"] / good["g_check"] - 1)))
     assert t["step_vs_solve"] == pytest.approx(want, rel=1e-12)          # from seed 0 alone
+
+
+def test_two_runs_share_the_work_a_packing_at_a_time(tmp_path, monkeypatch):
+    """Started once per core, runs share the store: a packing another live run holds is left
+    to it (its pieces pending here, no piece computed twice); a hold whose run is gone is
+    taken over; a run lets go of every packing when it ends."""
+    import os
+    import platform
+    import subprocess
+
+    from fricstab.io.rundir import LOCK, _start_time
+    monkeypatch.setattr(ip, "CACHE", tmp_path)
+    todo = [(64, 0.84, 0, "ensemble"), (64, 0.84, 0, "rigidity"), (64, 0.87, 0, "ensemble")]
+    monkeypatch.setattr(ip, "plan", lambda tier: list(todo))
+    monkeypatch.setattr(_stamped, "stored", lambda path: None)
+    made = []
+
+    def fake(n, phi, seed, piece, log=print):
+        made.append((n, phi, seed, piece))
+        return {"row": json.dumps({"use": True})}
+    monkeypatch.setattr(ip, "compute", fake)
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        folder = tmp_path / ".held" / ip.ishima_ensemble._key(64, 0.84, 0)
+        folder.mkdir(parents=True)
+        (folder / LOCK).write_text(json.dumps({
+            "pid": other.pid, "host": platform.node(), "start": _start_time(other.pid),
+            "protocol": "ishima_paper", "command": "the other run", "since": "now"}))
+        said = []
+        got, _, pending = ip.run_pieces("quick", log=said.append)
+        assert made == [(64, 0.87, 0, "ensemble")]
+        assert pending == todo[:2] and set(got) == {todo[2]}
+        assert sum("left to another run" in m and "the other run" in m for m in said) == 1
+        assert (folder / LOCK).exists()                      # the other run's hold stands
+        assert not (tmp_path / ".held" / ip.ishima_ensemble._key(64, 0.87, 0)).exists()
+    finally:
+        other.kill()
+        other.wait()
+    made.clear()
+    got, _, pending = ip.run_pieces("quick", log=lambda m: None)   # its run is gone
+    assert made == todo and pending == [] and set(got) == set(todo)
+    assert not folder.exists() and os.listdir(tmp_path / ".held") == []
