@@ -75,6 +75,8 @@ def test_every_verdict_is_computed():
 def _copy_tree(fp, tmp):
     for rel in (list(fp["modules"]) + list(fp.get("functions", {})) + [fp["claim"]["module"]]
                 + list(fp["inputs"])):
+        if not (ROOT / rel).exists():
+            continue    # a missing input: test_no_long_claim_is_stale names it and its command
         dst = tmp / rel
         dst.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy(ROOT / rel, dst)

@@ -198,7 +198,8 @@ def test_the_sweep_claim_states_the_scale_reached(member, tmp_path):
     assert claim.check(v, v) == (True, "identical")
     grown = json.loads(json.dumps(v))
     grown["rates"]["0.7"][0]["strain"] = 0.02
-    assert claim.check(v, grown)[0]
+    assert claim.check(v, grown) == (True, "the store reached further (0.7 to strain 0.01 -> "
+                                     "0.02): new numbers, judged afresh")
     other = json.loads(json.dumps(v))
     other["rates"]["0.7"][0]["rate"] += 0.01
     assert claim.check(v, other) == (False, "the same store gave other numbers")

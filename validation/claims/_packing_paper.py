@@ -92,9 +92,11 @@ def _m(m, fmt=".3g"):
 
 
 def _check(old, new):
-    if old["pieces"] != new["pieces"]:
-        return True, (f"the store reached further ({old['pieces'][0]} -> {new['pieces'][0]} "
-                      "pieces): new numbers, judged afresh")
+    from .core import judged_afresh
+    grown = judged_afresh(old["pieces"], new["pieces"],
+                          f"{old['pieces'][0]} -> {new['pieces'][0]} pieces")
+    if grown:
+        return grown
     for key, field in (("sign_change", None), ("g", "g")):
         for phi, a in old[key].items():
             pairs = [(a, new[key].get(phi, {}))] if field is None else \

@@ -167,6 +167,17 @@ def within_sigma(k, pairs):
     return check
 
 
+def judged_afresh(then, now, what):
+    """The check of a claim read from a store that long runs grow (a segmented member, an
+    ensemble's pieces), when the scale reached differs (``then`` != ``now``, ``what`` says
+    how): the regenerated numbers are new ones, judged afresh by the claim's verdict, not a
+    reproduction of the recorded ones.  None when the store is the one recorded (the claim's
+    own comparison applies)."""
+    if then == now:
+        return None
+    return True, f"the store reached further ({what}): new numbers, judged afresh"
+
+
 # ------------------------------------------------------------ verdicts against the paper
 
 def half_unit(printed):

@@ -103,10 +103,14 @@ def verdict(v):
 
 def check(old, new):
     """Regenerated from the same store: the same numbers; a store that grew: stated."""
-    grown = {m: [r["strain"] for r in rs] for m, rs in new["rates"].items()} != \
-        {m: [r["strain"] for r in rs] for m, rs in old["rates"].items()}
+    from .core import judged_afresh
+    then, now = ({m: [r["strain"] for r in rs] for m, rs in v["rates"].items()}
+                 for v in (old, new))
+    grown = judged_afresh(then, now, ", ".join(
+        f"{m} to strain {max(then.get(m) or [0]):.4g} -> {max(now[m] or [0]):.4g}"
+        for m in now if then.get(m) != now[m]))
     if grown:
-        return True, "the store reached further: new numbers, judged afresh"
+        return grown
     same = old["rates"] == new["rates"] and old["sec4"] == new["sec4"]
     return same, "identical" if same else "the same store gave other numbers"
 
