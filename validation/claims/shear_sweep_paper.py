@@ -217,7 +217,7 @@ def memory_show(v):
             + ", ".join(f"{100 * r['length']:g} % ({r['windows']}): {100 * r['tau_int']:.2f} %"
                         for r in v["rows"])
             + f" of strain (median over the windows, strain {100 * v['span'][0]:.2f}-"
-              f"{100 * v['span'][1]:g} %); grows as L^{v['slope']:.2f}; a steady window needs "
+              f"{100 * v['span'][1]:g} %); it scales as L^{v['slope']:.2f}; a steady window needs "
               f">= {100 * v['needed']:.0f} % of strain; the paper's window holds "
               f"{v['paper_window_times']:.1f} of the longest L's integrated times")
 
