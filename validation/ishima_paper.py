@@ -468,6 +468,43 @@ def limit_table(table):
     return out
 
 
+#: Fig. 5's "G depends on k_T/k_N only little for k_T/k_N <= 1e-4", read strictly: a change
+#: of G(1e-4)/G(0) - 1 within 1 %
+LIMIT_STRICT = 0.01
+
+
+def limit_readings(limit, table):
+    """Fig. 5's statement judged per phi under two readings, with the sample error: strict
+    (|G(1e-4)/G(0) - 1| within :data:`LIMIT_STRICT`) and as the figure shows it (G against
+    kT/kN on logarithmic axes, the paper's only evidence, "see Fig. 5": within half a plotted
+    marker, :data:`FIG_ZERO` of the G axis's range in decades, that range spanned by the
+    per-phi mean G at kT/kN > 0 of ``table``).  At a phi a reading 'disagrees' when
+    |mean| - 2 s.e. exceeds its bound, 'agrees' when |mean| + 2 s.e. is within it, else
+    'unresolved' (always with one packing: no spread).  A reading agrees when every phi
+    agrees, disagrees when one phi disagrees, else is undecided."""
+    means = [m["mean"] for t in table.values()
+             for k, m in zip(RIG_KTS, t["g"]) if k > 0 and m["mean"] and m["mean"] > 0]
+    decades = float(np.log10(max(means) / min(means))) if len(means) > 1 else None
+    bounds = {"strict": LIMIT_STRICT,
+              "figure": None if decades is None else float(10.0 ** (FIG_ZERO * decades) - 1)}
+    out = {"decades": decades, "readings": {}}
+    for name, bound in bounds.items():
+        rows = {}
+        for phi, r in limit.items():
+            m = r["0.0001"]
+            if bound is None or m["mean"] is None or m["count"] < 2:
+                rows[phi] = "unresolved"
+                continue
+            lo, hi = abs(m["mean"]) - 2 * m["se"], abs(m["mean"]) + 2 * m["se"]
+            rows[phi] = ("disagrees" if lo > bound else "agrees" if hi <= bound
+                         else "unresolved")
+        said = list(rows.values())
+        label = ("disagrees" if "disagrees" in said else
+                 "agrees" if said and all(s == "agrees" for s in said) else "undecided")
+        out["readings"][name] = {"bound": bound, "rows": rows, "label": label}
+    return out
+
+
 def band_measures(omega, psi_r, n_lowest):
     """How the rotational and translational bands sit: the fraction of mixed modes
     (0.1 < psi^R < 0.9), the ratio of the lowest translation-dominated frequency to the highest
@@ -674,6 +711,7 @@ def analyse(got, tier):
             x = got[(nd, FIG_PHI, s, "dos0.0001")]
             c = coupled_near(x["omega"], x["psi_r"], 1.3e-2)
             b2 = {k: b2.get(k, 0) + v for k, v in c.items()}
+    limit = limit_table(fig5)
     return {
         "tier": tier, "sizes": {"fig4": n4, "dos": nd}, "phis": list(phis),
         "ensemble": {"rule": ishima_ensemble.RULE, "summary": summ,
@@ -685,7 +723,7 @@ def analyse(got, tier):
         "factorisation": [factorisation_test(tab, k, n) for n, tab in
                           ((n4, fig4),) + (((nd, fig5),) if nd != n4 else ())
                           for k in (1e-4, 1.0, big)],
-        "limit": limit_table(fig5),
+        "limit": limit, "limit_readings": limit_readings(limit, fig5),
         "bands": bands, "fig7_b2": b2,
         "fig10": rotational_table(got, nd),
         "fig14": rattler_table(got, nd),
@@ -781,10 +819,20 @@ def report(doc, done, total, stamp):
             L.append(f"| {r['kt']:g} | "
                      + " | ".join("-" if r.get(f) is None else text(r) for _, f, text in cols)
                      + f" | {r['label']} |")
+    lr = doc["limit_readings"]["readings"]
+    heads = [f"{name} (within {'-' if x['bound'] is None else format(x['bound'], '.1%')}, "
+             "2 s.e.)" for name, x in lr.items()]
     L += ["", "## G(kT)/G(0) - 1 for small kT/kN (Fig. 5)", "",
-          "| phi | 1e-8 | 1e-6 | 1e-4 | 1e-2 |", "|---|---|---|---|---|"]
+          "| phi | 1e-8 | 1e-6 | 1e-4 | 1e-2 | " + " | ".join(heads) + " |",
+          "|---" * (5 + len(heads)) + "|"]
     for phi, r in doc["limit"].items():
-        L.append(f"| {phi} | " + " | ".join(_f(m, "+.2g") for m in r.values()) + " |")
+        L.append(f"| {phi} | " + " | ".join(_f(m, "+.2g") for m in r.values()) + " | "
+                 + " | ".join(x["rows"][phi] for x in lr.values()) + " |")
+    L += ["", "Fig. 5 by reading (G(1e-4)/G(0) - 1 per phi): "
+          + "; ".join(f"{name}: {x['label']}" for name, x in lr.items())
+          + ". The figure reading's bound is half a plotted marker on the G axis, "
+          f"{doc['limit_readings']['decades'] or 0:.2f} decades wide (the per-phi means of G "
+          "at kT/kN > 0)."]
     for name, key in (("backbone (rattlers removed)", "backbone"),
                       ("whole packing (rattlers kept)", "rattlers"),
                       (f"backbone at N = {doc['sizes']['dos']}, phi = 0.90", "backbone_fig"),
