@@ -635,7 +635,15 @@ def rattler_table(got, n):
         w, _ = _pooled(got, n, FIG_PHI, f"rattlers{kt:g}", "w_rattler")
         p, _ = _pooled(got, n, FIG_PHI, f"rattlers{kt:g}", "p")
         r = w > 0.5
+        # why a packing has no such mode: each free rattler (no contact) has three exact zero
+        # modes, dropped with the two translations; the zero modes beyond the translations
+        # against 3 x the rattlers says whether every rattler is free
+        rattlers = sum(json.loads(got[(n, FIG_PHI, s, "ensemble")]["row"])["rattlers"]
+                       for s in seeds)
+        zeros = sum(3 * n - 2 - got[(n, FIG_PHI, s, f"rattlers{kt:g}")]["omega"].size
+                    for s in seeds)
         out[f"{kt:g}"] = {"modes": int(r.sum()), "samples": len(seeds),
+                          "rattlers": int(rattlers), "zero_modes": int(zeros),
                           "pN_median": float(np.median(p[r] * n)) if r.any() else None,
                           "omega_median": float(np.median(om[r]) / math.sqrt(kt))
                           if r.any() else None}
@@ -865,10 +873,12 @@ def report(doc, done, total, stamp):
     L += ["", f"Split-half distance of the 1e-8 samples (the noise): "
           f"{'-' if nz is None else f'{nz:.3f}'}.", "",
           "## Rattler modes (Fig. 14), phi = 0.90", "",
-          "| kT/kN | modes on rattlers | median p N | median omega / sqrt(kT/kN) |",
-          "|---|---|---|---|"]
+          "| kT/kN | rattlers (packings) | zero modes beyond the translations | modes on "
+          "rattlers | median p N | median omega / sqrt(kT/kN) |",
+          "|---|---|---|---|---|---|"]
     for kt, r in doc["fig14"].items():
-        L.append(f"| {kt} | {r['modes']} | " + " | ".join(
+        L.append(f"| {kt} | {r['rattlers']} ({r['samples']}) | {r['zero_modes']} | "
+                 f"{r['modes']} | " + " | ".join(
             "-" if r[k] is None else f"{r[k]:.3g}" for k in ("pN_median", "omega_median"))
             + " |")
     f16 = doc["fig16"]

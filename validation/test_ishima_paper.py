@@ -179,6 +179,42 @@ def test_fig5_is_judged_per_phi_with_its_sample_error_under_both_readings():
     assert ip.limit_readings(limit, table)["readings"]["figure"]["label"] == "disagrees"
 
 
+def test_fig14_says_why_no_mode_is_carried_by_rattlers():
+    """Fig. 14's accounting on two made-up phi = 0.90 packings of N = 10: one whose rattler
+    is free (its three modes are exact zeros, dropped with the two translations: 3N - 5
+    kept) and one whose rattler touches a neighbour (one zero mode, one mode on it with
+    p N = 1).  The zero modes beyond the translations (3 + 1) against 3 x the rattlers (6)
+    tell the two apart; the verdict says 'every rattler is free' only when they are equal."""
+    from claims import _packing_paper
+    n, phi = 10, ip.FIG_PHI
+
+    def packing(seed, kept, w_on):
+        row = {"use": True, "rattlers": 1}
+        w = np.zeros(kept)
+        w[:len(w_on)] = w_on
+        p = np.full(kept, 0.5)
+        p[:len(w_on)] = 1.0 / n
+        return {(n, phi, seed, "ensemble"): {"row": json.dumps(row)},
+                (n, phi, seed, "rigidity"): {},
+                **{(n, phi, seed, f"rattlers{kt:g}"): {"omega": np.linspace(1e-3, 1, kept),
+                                                       "w_rattler": w, "p": p}
+                   for kt in ip.RATTLER_KTS}}
+    free = packing(0, 3 * n - 5, [])
+    x = ip.rattler_table(free, n)["1e-08"]
+    assert (x["rattlers"], x["zero_modes"], x["modes"]) == (1, 3, 0)
+    v = {"fig14": ip.rattler_table(free, n)}
+    assert "every rattler is free" in _packing_paper._fig14_verdict(v).detail
+    both = {**free, **packing(1, 3 * n - 3, [1.0])}
+    x = ip.rattler_table(both, n)["1e-08"]
+    assert (x["rattlers"], x["zero_modes"], x["modes"]) == (2, 4, 1)
+    assert x["pN_median"] == pytest.approx(1.0)
+    assert _packing_paper._fig14_verdict({"fig14": ip.rattler_table(both, n)}).label == "agrees"
+    contact = packing(0, 3 * n - 3, [0.3])         # a touching rattler, its mode not on it
+    v = {"fig14": ip.rattler_table(contact, n)}
+    verdict = _packing_paper._fig14_verdict(v)
+    assert verdict.label == "not comparable" and "free" not in verdict.detail
+
+
 def test_every_paper_claim_shows_and_judges_the_quick_values(quick):
     """The hours claims read the same document at the paper's scale: their cells and verdicts
     are computed here on the quick tier's (a claim that cannot render would be found after

@@ -281,7 +281,9 @@ def _fig10_verdict(v):
 
 
 def _fig14_show(v):
-    return "; ".join(f"kT/kN = {kt}: {r['modes']} modes on rattlers, median p N "
+    return "; ".join(f"kT/kN = {kt}: {r['rattlers']} rattlers in {r['samples']} packings, "
+                     f"{r['zero_modes']} zero modes beyond the translations, "
+                     f"{r['modes']} modes on rattlers, median p N "
                      f"{r['pN_median'] if r['pN_median'] is None else format(r['pN_median'], '.3g')}"
                      for kt, r in v["fig14"].items()) + f"; {_scale(v)}"
 
@@ -289,7 +291,10 @@ def _fig14_show(v):
 def _fig14_verdict(v):
     p = [r["pN_median"] for r in v["fig14"].values() if r["pN_median"] is not None]
     if not p:
-        return Verdict("not comparable", "no mode carried by rattlers")
+        free = all(r["zero_modes"] == 3 * r["rattlers"] for r in v["fig14"].values())
+        return Verdict("not comparable", "no mode carried by rattlers" + (
+            ": every rattler is free (no contact; zero modes beyond the translations = 3 x "
+            "the rattlers), so its three modes are exact zeros" if free else ""))
     return Verdict("agrees" if max(p) <= 3 else "disagrees",
                    f"largest median p N {max(p):.3g}; agree if <= 3 (a mode on at most ~3 "
                    "disks; the paper's p ~ 1/N)")
