@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sps
 
-from fricstab.analysis.sparse_spectrum import (compare_with_dense, fastest_growth,
+from fricstab.analysis.sparse_spectrum import (SHIFT, compare_with_dense, fastest_growth,
                                                growth_of, soft_end)
 from fricstab.analysis.spectrum import decompose
 from fricstab.engine import jacobian
-from fricstab.errors import ParameterError
+from fricstab.errors import NumericalError, ParameterError
 from fricstab.protocols.aqs import relax_step
 from fricstab.protocols.ramp import ramped_equilibrium
 from fricstab.scenes.chain import ChainScene, chain_system, mass_vector
@@ -86,6 +86,25 @@ def test_chain_state_without_translations():
     assert r["growth_sparse"] == pytest.approx(r["growth_dense"], rel=1e-9)
     with pytest.raises(ParameterError, match="not zero modes"):
         soft_end(k, mass, 4, dof=3)          # a wall: translations are not zero modes
+
+
+def test_the_search_widens_past_a_zero_cluster_of_any_size():
+    """A packing at jamming can hold hundreds of zero modes (N = 4,096, phi = 0.84: ~200 in
+    its backbone); the search widens until it holds k live eigenvalues.  Here 60 exact zeros
+    and k = 5: three widenings (6, 13, 27 wanted) see only zeros, the old search stopped there
+    with none (an IndexError), the fourth and fifth find them.  Diagonal K: the eigenvalues
+    are its entries.  Error model: Arnoldi resolves w = 1/(lambda - sigma) to ~eps of the
+    largest |w|, the zero modes' 1/sigma (sigma = SHIFT |A| = 1e-7), so lambda is off by
+    ~eps lambda^2 / sigma (1e-9 here; 5.6e-10 seen); asserted within 10 times that."""
+    live = -np.linspace(0.5, 10.0, 240)
+    k = sps.diags(np.concatenate([np.zeros(60), live])).tocsr()
+    soft = soft_end(k, np.ones(300), 5)
+    assert soft.zero_modes == 60
+    bound = 10 * np.finfo(float).eps * live[4] ** 2 / (SHIFT * 10.0)
+    assert np.allclose(np.sort(soft.eigenvalues.real)[::-1], live[:5], rtol=0, atol=bound)
+    with pytest.raises(NumericalError, match="zero cluster"):   # the widest search (298): zeros
+        soft_end(sps.diags(np.concatenate([np.zeros(299), [-1.0]])).tocsr(),
+                 np.ones(300), 5)
 
 
 def test_rattler_zero_modes_counted_and_left_out(charan):

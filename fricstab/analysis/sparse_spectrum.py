@@ -186,13 +186,18 @@ def soft_end(K, mass, k=12, sigma=None, dof=None, tol=0.0, seed=0):
 
     v0 = project(np.random.default_rng(seed).standard_normal(n))
     want = min(k + 1, room - 2)
-    for _ in range(3):
+    while True:   # widen past the zero cluster (a packing at jamming holds hundreds)
         w, x = _arnoldi(spla.LinearOperator((n, n), op, dtype=float), want, v0, tol)
         lam = sigma + 1.0 / w
         zero = np.abs(lam) <= ZERO_CLUSTER * scale
         if want - zero.sum() > k or want >= room - 2:
             break
         want = min(want + int(zero.sum()) + 1, room - 2)
+    if zero.all():
+        raise NumericalError(f"soft_end: all {want} eigenvalues found lie in the zero cluster "
+                             f"(|lambda| <= {ZERO_CLUSTER:g} |A|_inf = "
+                             f"{ZERO_CLUSTER * scale:.3g}) and Arnoldi can widen no further; "
+                             "use the dense spectrum")
     lam, x = lam[~zero], x[:, ~zero]
     idx = _order(lam)[:k]
     if lam[idx[-1]].imag != 0 and len(idx) < len(lam):
