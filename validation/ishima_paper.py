@@ -684,9 +684,12 @@ def cost_table(got, pending):
     """Per N and kind of piece (ensemble: make and judge a packing; rigidity; dos and rattlers:
     one spectrum each): the measured seconds (mean, count), and the projected seconds of the
     pieces still owed, each at the mean of its kind (None where no piece of that N and kind
-    was measured yet)."""
+    was measured yet).  An ensemble piece whose packing came from the cache (judged again,
+    not made) prices nothing: the compression is most of what an owed one costs."""
     out = {}
     for (n, _, _, piece), x in got.items():
+        if piece == "ensemble" and json.loads(x["row"]).get("from_cache"):
+            continue
         if "stamp_seconds" in x:
             out.setdefault(f"{n}/{_kind(piece)}", []).append(float(x["stamp_seconds"]))
     rows = {k: {"mean": float(np.mean(v)), "count": len(v)} for k, v in out.items()}

@@ -215,6 +215,18 @@ def test_fig14_says_why_no_mode_is_carried_by_rattlers():
     assert verdict.label == "not comparable" and "free" not in verdict.detail
 
 
+def test_the_cost_of_an_owed_packing_is_priced_by_packings_made_not_read():
+    """An ensemble piece judged again on a cached packing (1 s) says nothing of what making
+    one costs (300 s here, the compression): the owed packing is priced at 300 s, not at the
+    mean 150 s; a kind never measured is counted unpriced."""
+    row = lambda cached: {"row": json.dumps({"from_cache": cached})}  # noqa: E731
+    got = {(64, 0.9, 0, "ensemble"): {**row(True), "stamp_seconds": 1.0},
+           (64, 0.9, 1, "ensemble"): {**row(False), "stamp_seconds": 300.0}}
+    c = ip.cost_table(got, [(64, 0.9, 2, "ensemble"), (64, 0.9, 2, "rigidity")])
+    assert c["rows"]["64/ensemble"] == {"mean": 300.0, "count": 1}
+    assert c["projected_seconds"] == 300.0 and c["unpriced"] == 1
+
+
 def test_every_paper_claim_shows_and_judges_the_quick_values(quick):
     """The hours claims read the same document at the paper's scale: their cells and verdicts
     are computed here on the quick tier's (a claim that cannot render would be found after
