@@ -298,3 +298,35 @@ def test_the_memory_claim_reads_the_member_up_to_its_span(member, tmp_path):
     assert "memory resolved" in str(claim.memory_verdict({**v, "resolved": True}))
     said = claim.memory_verdict({**v, "resolved": False})
     assert said.label == "measured" and "lower bound" in str(said)
+
+
+def test_the_scaling_claim_reads_the_member_and_says_when_its_test_is_blind(member, tmp_path):
+    """The long-memory claim on the tiny member: its exponent and its mean's error are the
+    library's on the same frames, and the verdict says the test is blind only where it
+    accepts a window whose tau rises."""
+    import shutil
+
+    from claims import shear_sweep_paper as claim
+    from fricstab.analysis.long_memory import aggregated_variance
+    folder, _, _ = member
+    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    span, lengths = (0.002, 0.01), (0.0005, 0.001, 0.002)
+    v = claim.member_scaling(tmp_path / "store", span, lengths, (0.0, 0.004)).values
+    series, *_ = shear_rolling.series_to(folder, 0.01)
+    agg = aggregated_variance(series[:, 1], series[:, 4], lengths, span)
+    assert v["hurst"] == agg["hurst"] and v["rows"] == agg["rows"]
+    last = agg["rows"][-1]
+    h = min(agg["hurst"], 1.0)
+    assert v["se"] == pytest.approx(np.sqrt(last["var"]) * ((span[1] - span[0]) / last["length"])
+                                    ** (h - 1.0), rel=1e-12)
+    assert [p["rise"] for p in v["power"]] == list(claim.SCALING_RISES)
+    assert "H = " in claim.scaling_show(v)
+    blind = {**v, "tests": {**v["tests"], "paper_window": {
+        **v["tests"]["paper_window"], "steady": True, "drift_over_std": 2.9, "p": 0.08}},
+        "power": [{"rise": 1.0, "rejected": 0.1}, {"rise": 3.0, "rejected": 0.55}]}
+    said = str(claim.scaling_verdict(blind))
+    assert "does not show a steady state" in said and "3 std only half the time" in said
+    sees = {**blind, "tests": {**blind["tests"], "paper_window": {
+        **blind["tests"]["paper_window"], "steady": False, "p": 0.001}}}
+    assert "it rejects the paper's window" in str(claim.scaling_verdict(sees))
+    assert claim.scaling_verdict(sees).label == "measured"
