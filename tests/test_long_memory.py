@@ -4,8 +4,8 @@ exponent, and the Mann-Kendall test under the scaling hypothesis (Hamed 2008).""
 import numpy as np
 import pytest
 
-from fricstab.analysis.long_memory import (aggregated_variance, fgn, fgn_correlation,
-                                           hurst_mle, ltp_trend_test)
+from fricstab.analysis.long_memory import (aggregated_variance, ensemble_trend_test, fgn,
+                                           fgn_correlation, hurst_mle, ltp_trend_test)
 from fricstab.analysis.stationarity import trend_test
 from fricstab.errors import ParameterError
 
@@ -88,7 +88,39 @@ def test_the_memory_widens_the_variance_of_s():
     assert r["n_blocks"] == 32 and r["n_values"] == 64
 
 
+T = np.linspace(0.0, 1.0, 2000)
+
+
+def test_the_ensemble_test_holds_its_size_under_long_memory():
+    # 150 ensembles of 6 independent fGn members with H = 0.9: the t test on one slope per
+    # member is exact for independent normal slopes; binomial s.e. of the rejection rate at
+    # 0.05 over 150 ensembles is 0.018, so at most 0.105 (measured: 0.045-0.05 over 200)
+    x = fgn(2000, 0.9, size=(150 * 6), rng=21).reshape(150, 6, 2000)
+    rejected = [not ensemble_trend_test([(T, v) for v in e], (0.0, 1.0))["steady"] for e in x]
+    assert np.mean(rejected) <= 0.105
+
+
+def test_the_ensemble_test_sees_a_rise_one_member_cannot():
+    # a rise of 1 std over the span on fGn with H = 0.9: 8 members see it in 0.97 of 100
+    # ensembles (measured); binomial s.e. ~0.02 there, so at least 0.85.  One member's
+    # scaling test sees it in 0.14 of series (test above, 1 std at H = 0.9)
+    x = fgn(2000, 0.9, size=800, rng=22).reshape(100, 8, 2000) + T
+    res = [ensemble_trend_test([(T, v) for v in e], (0.0, 1.0)) for e in x]
+    assert np.mean([not r["steady"] for r in res]) >= 0.85
+    r = res[0]
+    assert r["members"] == 8 and r["n_bins"] == 20 and r["rise_over_std"] > 0
+    # the mean's error is the members' spread over sqrt(M), whatever their memory
+    bins = np.minimum(np.floor(T * 20).astype(int), 19)
+    means = np.array([[v[bins == b].mean() for b in range(20)] for v in x[0]]).mean(axis=1)
+    assert r["mean_se"] == pytest.approx(means.std(ddof=1) / np.sqrt(8), rel=1e-9)
+
+
 @pytest.mark.parametrize("call, match", [
+    (lambda: ensemble_trend_test([(T, T), (T, T)], (0.0, 1.0)), "at least 3"),
+    (lambda: ensemble_trend_test([(T, T)] * 3, (0.0, 2.0)), "run it further"),
+    (lambda: ensemble_trend_test([(T, T)] * 3, (1.0, 0.0)), "hi > lo"),
+    (lambda: ensemble_trend_test([(np.r_[0.0, 0.01, 1.0], np.ones(3))] * 3, (0.0, 1.0), 40),
+     "empty bin"),
     (lambda: ltp_trend_test(np.ones(10), 32), "at least 32 values"),
     (lambda: ltp_trend_test(np.r_[np.ones(40), np.nan], 32), "non-finite"),
     (lambda: ltp_trend_test(np.ones(64), 4), "n_blocks"),

@@ -320,6 +320,9 @@ def test_the_scaling_claim_reads_the_member_and_says_when_its_test_is_blind(memb
     assert v["se"] == pytest.approx(np.sqrt(last["var"]) * ((span[1] - span[0]) / last["length"])
                                     ** (h - 1.0), rel=1e-12)
     assert [p["rise"] for p in v["power"]] == list(claim.SCALING_RISES)
+    # the core-hours to each strain add the segments' stamps up to it (all 4 reach 0.01)
+    assert list(v["core_hours_to"]) == ["0.004", "0.2", "0.01"]
+    assert v["core_hours_to"]["0.004"] < v["core_hours_to"]["0.01"] == v["core_hours_to"]["0.2"]
     assert "H = " in claim.scaling_show(v)
     blind = {**v, "tests": {**v["tests"], "paper_window": {
         **v["tests"]["paper_window"], "steady": True, "drift_over_std": 2.9, "p": 0.08}},

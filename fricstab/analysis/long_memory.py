@@ -24,6 +24,9 @@ Hamed's correction for the bias of the estimated H (his polynomial in n and H). 
 on fGn of any H (:mod:`tests.test_long_memory`); the price is power: with H near 1 a long
 rise of the mean is what the model expects, and the test accepts it.
 
+:func:`ensemble_trend_test`: the test that long memory cannot fool, across independent
+members (seeds): one slope per member, Student's t on the slopes.
+
 :func:`fgn`: fGn by circulant embedding (Davies & Harte 1987), for tests and power studies.
 """
 
@@ -32,7 +35,8 @@ from scipy import linalg, optimize, stats
 
 from fricstab.errors import ParameterError
 
-__all__ = ["aggregated_variance", "fgn", "fgn_correlation", "hurst_mle", "ltp_trend_test"]
+__all__ = ["aggregated_variance", "ensemble_trend_test", "fgn", "fgn_correlation", "hurst_mle",
+           "ltp_trend_test"]
 
 #: the search interval of :func:`hurst_mle` (the scaling hypothesis: persistence, H >= 0.5;
 #: H = 1 is a series that never settles, where the fGn correlation matrix is singular)
@@ -201,3 +205,69 @@ def ltp_trend_test(x, n_blocks=32, alpha=0.05):
             "var_s_independent": n * (n - 1) * (2 * n + 5) / 18.0,
             "drift_over_std": _theil_sen(m) * n / sd if sd > 0 else 0.0,
             "n_blocks": n, "n_values": int(x.size)}
+
+
+def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
+    """A trend test that no memory can fool: independent members (seeds) of one protocol.
+
+    ``members``: a list of ``(t, x)`` pairs, one per independent run (a strain axis and tau);
+    ``span = (lo, hi)`` of ``t``, common to all, is cut into ``n_bins`` equal bins.  Per member,
+    the least-squares slope of its bin means against the bin centres: one number per member,
+    and members are independent whatever each one's memory.  The test is Student's t on those
+    slopes (:func:`scipy.stats.ttest_1samp`, ``M - 1`` degrees of freedom): steady where the
+    mean slope is not distinguishable from zero at level ``alpha``.
+
+    Returns a dict: ``slope`` (mean over members, units of x per unit t) and ``slope_se``,
+    ``p``, ``steady``, ``rise_over_std`` (mean slope x the span over the pooled std of the bin
+    means), ``resolvable_rise`` (the rise, in the same units, that the test sees half the time:
+    ``t_{1-alpha/2, M-1}`` standard errors of the slope x the span over that std), ``mean``
+    (of x over the span and members) with its ``mean_se`` (the spread of the members' means
+    over sqrt(M)), ``members``, ``n_bins``.
+    """
+    if not 0.0 < alpha < 1.0:
+        raise ParameterError(f"alpha = {alpha!r}: a test level in (0, 1)")
+    if int(n_bins) != n_bins or n_bins < 3:
+        raise ParameterError(f"n_bins = {n_bins!r}: at least 3 bins (an integer)")
+    members = list(members)
+    if len(members) < 3:
+        raise ParameterError(f"{len(members)} member(s): a test across independent members "
+                             "needs at least 3 (one member cannot tell a long memory from a "
+                             "drift: fricstab.analysis.long_memory)")
+    lo, hi = map(float, span)
+    if not hi > lo:
+        raise ParameterError(f"span {span!r}: (lo, hi) with hi > lo")
+    n = int(n_bins)
+    edges = np.linspace(lo, hi, n + 1)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    means = []
+    for k, (t, x) in enumerate(members):
+        t, x = _series(t, 2, "axis"), _series(x, 2)
+        if t.shape != x.shape:
+            raise ParameterError(f"member {k}: t and x of lengths {t.size} and {x.size}")
+        if t[0] > lo or t[-1] < hi:
+            raise ParameterError(f"member {k} covers {t[0]:g}..{t[-1]:g}, not the span "
+                                 f"{lo:g}..{hi:g}: run it further")
+        idx = np.searchsorted(edges, t, side="right") - 1
+        idx[t == hi] = n - 1                          # the span's end belongs to the last bin
+        keep = (idx >= 0) & (idx < n)
+        counts = np.bincount(idx[keep], minlength=n)
+        if counts.min() < 1:
+            raise ParameterError(f"member {k}: an empty bin ({n} bins over {lo:g}..{hi:g})")
+        means.append(np.bincount(idx[keep], weights=x[keep], minlength=n) / counts)
+    means = np.asarray(means)
+    slopes = np.polyfit(centres, means.T, 1)[0]
+    m = slopes.size
+    res = stats.ttest_1samp(slopes, 0.0)
+    se = float(slopes.std(ddof=1) / np.sqrt(m))
+    p = float(res.pvalue) if np.isfinite(res.pvalue) else 1.0   # identical slopes: no spread
+    sd = float(np.sqrt(np.mean(means.var(axis=1, ddof=1))))
+    width = hi - lo
+    member_means = means.mean(axis=1)
+    return {"slope": float(slopes.mean()), "slope_se": se, "p": p, "steady": bool(p >= alpha),
+            "alpha": alpha,
+            "rise_over_std": float(slopes.mean() * width / sd) if sd > 0 else 0.0,
+            "resolvable_rise": float(stats.t.ppf(1 - alpha / 2, m - 1) * se * width / sd)
+            if sd > 0 else 0.0,
+            "mean": float(member_means.mean()),
+            "mean_se": float(member_means.std(ddof=1) / np.sqrt(m)),
+            "members": m, "n_bins": n}
