@@ -127,8 +127,7 @@ def aggregated_variance(t, x, lengths, span=None):
 
 
 def _theil_sen(m):
-    i, j = np.triu_indices(m.size, 1)
-    return float(np.median((m[j] - m[i]) / (j - i)))
+    return float(stats.theilslopes(m).slope)
 
 
 def hurst_mle(m):
