@@ -334,3 +334,29 @@ def test_the_scaling_claim_reads_the_member_and_says_when_its_test_is_blind(memb
         **blind["tests"]["paper_window"], "steady": False, "p": 0.001}}}
     assert "it rejects the paper's window" in str(claim.scaling_verdict(sees))
     assert claim.scaling_verdict(sees).label == "measured"
+
+
+def test_the_rate_claim_counts_the_phases_as_the_analysis_does(member, tmp_path):
+    """The member's phase rate per window: the analysis' phases (find_phases on the steps
+    whose frames lie in the window), its error on the phase starts' scaling, and a verdict
+    that parts when the windows do."""
+    import shutil
+
+    from claims import shear_sweep_paper as claim
+    from fricstab.analysis.shear_phases import find_phases
+    folder, _, _ = member
+    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    span, lengths = (0.002, 0.01), (0.0005, 0.001, 0.002)
+    v = claim.member_rate(tmp_path / "store", span, lengths, (0.0, 0.004)).values
+    series, *_ = shear_rolling.series_to(folder, 0.01)
+    strain, tau = series[:, 1], series[:, 4]
+    ok = np.zeros(strain.size, bool)
+    ok[1:] = (strain[:-1] >= 0.0) & (strain[1:] <= 0.004)
+    assert v["windows"]["paper_window"]["steps"] == ok.sum() > 30
+    assert v["windows"]["paper_window"]["rate"] == len(find_phases(tau, ok)) / ok.sum()
+    assert v["paper"] == pytest.approx(42_000 / 130_000)
+    assert "s.e. from the paper's 0.323" in claim.rate_show(v)
+    far, near = {"distance": 3.0}, {"distance": 1.0}
+    assert claim.rate_verdict({"windows": {"a": near, "b": near}}).label == "agrees"
+    assert claim.rate_verdict({"windows": {"a": far, "b": far}}).label == "disagrees"
+    assert claim.rate_verdict({"windows": {"a": near, "b": far}}).label == "undecided"
