@@ -300,16 +300,21 @@ def test_the_memory_claim_reads_the_member_up_to_its_span(member, tmp_path):
     assert said.label == "measured" and "lower bound" in str(said)
 
 
+def _in_store(member, tmp_path):
+    """The tiny member copied into ``tmp_path / "store"`` as the paper-preset member; its folder."""
+    import shutil
+    folder, _, _ = member
+    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    return folder
+
+
 def test_the_scaling_claim_reads_the_member_and_says_when_its_test_is_blind(member, tmp_path):
     """The long-memory claim on the tiny member: its exponent and its mean's error are the
     library's on the same frames, and the verdict says the test is blind only where it
     accepts a window whose tau rises."""
-    import shutil
-
     from claims import shear_sweep_paper as claim
     from fricstab.analysis.long_memory import aggregated_variance
-    folder, _, _ = member
-    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    folder = _in_store(member, tmp_path)
     span, lengths = (0.002, 0.01), (0.0005, 0.001, 0.002)
     v = claim.member_scaling(tmp_path / "store", span, lengths, (0.0, 0.004)).values
     series, *_ = shear_rolling.series_to(folder, 0.01)
@@ -340,12 +345,9 @@ def test_the_rate_claim_counts_the_phases_as_the_analysis_does(member, tmp_path)
     """The member's phase rate per window: the analysis' phases (find_phases on the steps
     whose frames lie in the window), its error on the phase starts' scaling, and a verdict
     that parts when the windows do."""
-    import shutil
-
     from claims import shear_sweep_paper as claim
     from fricstab.analysis.shear_phases import find_phases
-    folder, _, _ = member
-    shutil.copytree(folder, tmp_path / "store" / "mus0.7_seed0")
+    folder = _in_store(member, tmp_path)
     span, lengths = (0.002, 0.01), (0.0005, 0.001, 0.002)
     v = claim.member_rate(tmp_path / "store", span, lengths, (0.0, 0.004)).values
     series, *_ = shear_rolling.series_to(folder, 0.01)

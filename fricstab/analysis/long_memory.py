@@ -35,7 +35,7 @@ from scipy import linalg, optimize, stats
 
 from fricstab.errors import ParameterError
 
-__all__ = ["aggregated_variance", "ensemble_trend_test", "fgn", "fgn_correlation", "hurst_mle",
+__all__ = ["aggregated_variance", "ensemble_trend_test", "error_of_mean", "fgn", "fgn_correlation", "hurst_mle",
            "ltp_trend_test"]
 
 #: the search interval of :func:`hurst_mle` (the scaling hypothesis: persistence, H >= 0.5;
@@ -124,6 +124,15 @@ def aggregated_variance(t, x, lengths, span=None):
     return {"rows": rows, "slope": float(slope), "hurst": float(1.0 + slope / 2.0),
             "hurst_se": float(np.sqrt(cov[0, 0]) / 2.0), "std": float(x.std()),
             "span": [lo, hi]}
+
+
+def error_of_mean(agg, width):
+    """The standard error of a mean over a window of ``width`` (units of t) on the scaling of
+    :func:`aggregated_variance`'s result ``agg``: the longest blocks' spread carried to the
+    window as (W / L)^(H - 1); where H >= 1 the block means do not settle, and that spread is
+    the error."""
+    last = agg["rows"][-1]
+    return float(np.sqrt(last["var"]) * (width / last["length"]) ** min(agg["hurst"] - 1.0, 0.0))
 
 
 def _theil_sen(m):

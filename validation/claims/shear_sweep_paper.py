@@ -265,16 +265,15 @@ def member_scaling(store=None, span=SCALING_SPAN, lengths=SCALING_LENGTHS,
     from .shear import _validation
     _validation()
     import shear_rolling
-    from fricstab.analysis.long_memory import aggregated_variance, fgn, ltp_trend_test
+    from fricstab.analysis.long_memory import (aggregated_variance, error_of_mean, fgn,
+                                               ltp_trend_test)
     series, units, used = shear_rolling.series_to(
         Path(store or shear_rolling.STORE) / "mus0.7_seed0", span[1])
     strain, tau = series[:, 1], series[:, 4]
     agg = aggregated_variance(strain, tau, lengths, span)
     h = agg["hurst"]
     x = tau[(strain >= span[0]) & (strain <= span[1])]
-    last = agg["rows"][-1]
-    # H >= 1: the block means do not settle; the longest blocks' spread is the error
-    se = np.sqrt(last["var"]) * ((span[1] - span[0]) / last["length"]) ** min(h - 1.0, 0.0)
+    se = error_of_mean(agg, span[1] - span[0])
     keep = ("p", "hurst", "drift_over_std", "steady", "n_blocks")
     tests = {}
     for name, (lo, hi) in (("span", span), ("paper_window", window)):
@@ -364,7 +363,7 @@ def member_rate(store=None, span=SCALING_SPAN, lengths=SCALING_LENGTHS, window=P
     from .shear import PAPER_PHASES, PAPER_STEPS, _validation
     _validation()
     import shear_rolling
-    from fricstab.analysis.long_memory import aggregated_variance
+    from fricstab.analysis.long_memory import aggregated_variance, error_of_mean
     from fricstab.analysis.shear_phases import find_phases
     series, units, used = shear_rolling.series_to(
         Path(store or shear_rolling.STORE) / "mus0.7_seed0", span[1])
@@ -380,13 +379,13 @@ def member_rate(store=None, span=SCALING_SPAN, lengths=SCALING_LENGTHS, window=P
     starts = np.zeros(strain.size)
     starts[find_phases(tau, ok)[:, 0]] = 1.0
     agg = aggregated_variance(strain[ok], starts[ok], lengths, span)
-    h, last = agg["hurst"], agg["rows"][-1]
+    h = agg["hurst"]
     rows = {}
     for name, (lo, hi) in (("paper_window", window), ("span", span)):
         ok = inside(lo, hi)
         n = int(ok.sum())
         rate = len(find_phases(tau, ok)) / n
-        se = float(np.sqrt(last["var"]) * ((hi - lo) / last["length"]) ** min(h - 1.0, 0.0))
+        se = error_of_mean(agg, hi - lo)
         rows[name] = {"window": [lo, hi], "steps": n, "rate": rate, "se": se,
                       "distance": abs(rate - paper) / se}
     return Result({"paper": paper, "hurst": h, "rows": agg["rows"], "windows": rows,
