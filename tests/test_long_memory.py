@@ -115,9 +115,23 @@ def test_the_ensemble_test_sees_a_rise_one_member_cannot():
     assert r["mean_se"] == pytest.approx(means.std(ddof=1) / np.sqrt(8), rel=1e-9)
 
 
+def test_a_member_stopped_at_the_span_end_to_round_off_covers_it():
+    # a run asked for strain 0.01 stops at 0.009999999999999912 (measured): it covers the span
+    # and gives the test's numbers as if it ended at 0.01 exactly (its last value in the last bin)
+    x = fgn(2000, 0.7, size=3, rng=23)
+    short = T * (1.0 - 1e-15)
+    exact = ensemble_trend_test([(T, v) for v in x], (0.0, 1.0))
+    got = ensemble_trend_test([(short, v) for v in x], (0.0, 1.0))
+    assert got == exact
+    with pytest.raises(ParameterError, match="run it further"):
+        ensemble_trend_test([(T * (1.0 - 1e-6), v) for v in x], (0.0, 1.0))
+
+
 @pytest.mark.parametrize("call, match", [
     (lambda: ensemble_trend_test([(T, T), (T, T)], (0.0, 1.0)), "at least 3"),
     (lambda: ensemble_trend_test([(T, T)] * 3, (0.0, 2.0)), "run it further"),
+    (lambda: ensemble_trend_test([(T, T), (T, 2 * T), (T, T)], (0.0, 1.0)),
+     "members 0 and 2 have the same bin means"),
     (lambda: ensemble_trend_test([(T, T)] * 3, (1.0, 0.0)), "hi > lo"),
     (lambda: ensemble_trend_test([(np.r_[0.0, 0.01, 1.0], np.ones(3))] * 3, (0.0, 1.0), 40),
      "empty bin"),

@@ -362,3 +362,51 @@ def test_the_rate_claim_counts_the_phases_as_the_analysis_does(member, tmp_path)
     assert claim.rate_verdict({"windows": {"a": near, "b": near}}).label == "agrees"
     assert claim.rate_verdict({"windows": {"a": far, "b": far}}).label == "disagrees"
     assert claim.rate_verdict({"windows": {"a": near, "b": far}}).label == "undecided"
+
+
+def test_the_seeds_claim_judges_only_once_enough_seeds_cover_the_span(member, tmp_path):
+    """The claim across seeds: a seed still running is listed with the strain it reached and
+    enters no number; the test runs once ``min_seeds`` seeds cover the span; each seed's
+    numbers are the analysis' on its own frames; the verdict follows the test and the rate."""
+    import shutil
+
+    from claims import shear_seeds as claim
+    from fricstab.analysis.shear_phases import find_phases
+    folder = _in_store(member, tmp_path)
+    store, span = tmp_path / "store", (0.002, 0.01)
+    part = store / "mus0.7_seed1"
+    part.mkdir()
+    for f in (folder / "member.json", *shear_rolling.segments(folder)[:2]):
+        shutil.copy(f, part)                 # frames 0..50: strain 0.005 of the span's 0.01
+    v = claim.member_seeds(store, span, min_seeds=3).values
+    assert [m["seed"] for m in v["members"]] == [0, 1] and v["test"] is None
+    assert "mean" not in v["members"][1]
+    assert v["members"][1]["reached"] == pytest.approx(0.005, rel=1e-9)
+    said = claim.seeds_verdict(v)
+    assert said.label == "not comparable"
+    assert "1 of 3 seeds reach strain 0.01 (seed 1 at strain 0.0050)" in str(said)
+    series, *_ = shear_rolling.series_to(folder, 0.01)
+    strain, tau = series[:, 1], series[:, 4]
+    ok = claim.inside(strain, *span)
+    assert v["members"][0]["steps"] == ok.sum() > 60
+    assert v["members"][0]["rate"] == len(find_phases(tau, ok)) / ok.sum()
+    assert v["members"][0]["mean"] == tau[(strain >= 0.002) & (strain <= 0.01)].mean()
+    # three seeds over the span: the tiny member run again with seeds 1 and 2
+    shutil.rmtree(part)
+    for s in (1, 2):
+        shear_rolling.run(0.7, seed=s, overrides={**TINY, "strain": 0.01}, preset="quick",
+                          segment=50, store=tmp_path / "runs", log=lambda m: None)
+        shutil.copytree(tmp_path / "runs" / f"quick-mus0.7_seed{s}", store / f"mus0.7_seed{s}")
+    v = claim.member_seeds(store, span, min_seeds=3).values
+    assert v["test"]["members"] == 3 and v["rate"]["se"] > 0
+    rates = [m["rate"] for m in v["members"]]
+    assert len(set(rates)) == 3 and v["rate"]["mean"] == pytest.approx(np.mean(rates), rel=1e-12)
+    assert "Across 3 seeds" in claim.seeds_show(v)
+    # the verdict: a drift across seeds leaves it undecided; else the rate against the paper's
+    # (the paper's 0.323: 0.32 +- 0.01 lies 0.3 s.e. off, 0.25 +- 0.01 7.3 s.e.)
+    near, far = ({**v, "rate": {"mean": m, "se": 0.01}} for m in (0.32, 0.25))
+    assert claim.seeds_verdict(near).label == "agrees"
+    assert claim.seeds_verdict(far).label == "disagrees"
+    drifts = {**near, "test": {**near["test"], "steady": False, "p": 0.01}}
+    assert claim.seeds_verdict(drifts).label == "undecided"
+    assert "still drifts across seeds" in str(claim.seeds_verdict(drifts))

@@ -230,7 +230,8 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
     means), ``resolvable_rise`` (the rise, in the same units, that the test sees half the time:
     ``t_{1-alpha/2, M-1}`` standard errors of the slope x the span over that std), ``mean``
     (of x over the span and members) with its ``mean_se`` (the spread of the members' means
-    over sqrt(M)), ``members``, ``n_bins``.
+    over sqrt(M)), ``members``, ``n_bins``.  Two members with the same bin means (one run
+    passed twice) raise :class:`~fricstab.errors.ParameterError`: they are not independent.
     """
     if not 0.0 < alpha < 1.0:
         raise ParameterError(f"alpha = {alpha!r}: a test level in (0, 1)")
@@ -245,6 +246,7 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
     if not hi > lo:
         raise ParameterError(f"span {span!r}: (lo, hi) with hi > lo")
     n = int(n_bins)
+    slack = 1e-9 * (hi - lo)          # a run stopped at its target strain to round-off covers it
     edges = np.linspace(lo, hi, n + 1)
     centres = 0.5 * (edges[1:] + edges[:-1])
     means = []
@@ -252,7 +254,7 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
         t, x = _series(t, 2, "axis"), _series(x, 2)
         if t.shape != x.shape:
             raise ParameterError(f"member {k}: t and x of lengths {t.size} and {x.size}")
-        if t[0] > lo or t[-1] < hi:
+        if t[0] > lo + slack or t[-1] < hi - slack:
             raise ParameterError(f"member {k} covers {t[0]:g}..{t[-1]:g}, not the span "
                                  f"{lo:g}..{hi:g}: run it further")
         idx = np.searchsorted(edges, t, side="right") - 1
@@ -263,11 +265,18 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
             raise ParameterError(f"member {k}: an empty bin ({n} bins over {lo:g}..{hi:g})")
         means.append(np.bincount(idx[keep], weights=x[keep], minlength=n) / counts)
     means = np.asarray(means)
+    for k in range(1, len(means)):
+        same = [j for j in range(k) if np.array_equal(means[j], means[k])]
+        if same:
+            raise ParameterError(f"members {same[0]} and {k} have the same bin means: one run "
+                                 "passed twice, not independent members (seeds)")
     slopes = np.polyfit(centres, means.T, 1)[0]
     m = slopes.size
-    res = stats.ttest_1samp(slopes, 0.0)
     se = float(slopes.std(ddof=1) / np.sqrt(m))
-    p = float(res.pvalue) if np.isfinite(res.pvalue) else 1.0   # identical slopes: no spread
+    if se > 0:
+        p = float(stats.ttest_1samp(slopes, 0.0).pvalue)
+    else:                     # equal slopes of distinct members: a zero-spread t is 0 or infinite
+        p = 1.0 if slopes[0] == 0.0 else 0.0
     sd = float(np.sqrt(np.mean(means.var(axis=1, ddof=1))))
     width = hi - lo
     member_means = means.mean(axis=1)

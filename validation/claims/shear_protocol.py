@@ -140,3 +140,7 @@ CLAIMS = [
 from .shear_sweep_paper import CLAIMS as _SWEEP_PAPER  # noqa: E402
 
 CLAIMS += _SWEEP_PAPER
+
+from .shear_seeds import CLAIMS as _SEEDS  # noqa: E402
+
+CLAIMS += _SEEDS

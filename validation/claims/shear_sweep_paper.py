@@ -350,6 +350,15 @@ def scaling_verdict(v):
            "that size")))
 
 
+def inside(strain, lo, hi):
+    """The output steps whose two frames both lie in strain ``[lo, hi]`` (a mask over frames,
+    True at a step's second frame): where phases are counted."""
+    import numpy as np
+    ok = np.zeros(strain.size, bool)
+    ok[1:] = (strain[:-1] >= lo) & (strain[1:] <= hi)
+    return ok
+
+
 def member_rate(store=None, span=SCALING_SPAN, lengths=SCALING_LENGTHS, window=PAPER_WINDOW):
     """The paper-preset member's phase rate (mu_s = 0.7, seed 0) against the paper's 42,000
     phases in 130,000 output steps, with an error that allows for long memory: phases as the
@@ -370,19 +379,14 @@ def member_rate(store=None, span=SCALING_SPAN, lengths=SCALING_LENGTHS, window=P
     strain, tau = series[:, 1], series[:, 4]
     paper = PAPER_PHASES["0.7"] / PAPER_STEPS
 
-    def inside(lo, hi):
-        ok = np.zeros(strain.size, bool)
-        ok[1:] = (strain[:-1] >= lo) & (strain[1:] <= hi)
-        return ok
-
-    ok = inside(*span)
+    ok = inside(strain, *span)
     starts = np.zeros(strain.size)
     starts[find_phases(tau, ok)[:, 0]] = 1.0
     agg = aggregated_variance(strain[ok], starts[ok], lengths, span)
     h = agg["hurst"]
     rows = {}
     for name, (lo, hi) in (("paper_window", window), ("span", span)):
-        ok = inside(lo, hi)
+        ok = inside(strain, lo, hi)
         n = int(ok.sum())
         rate = len(find_phases(tau, ok)) / n
         se = error_of_mean(agg, hi - lo)
