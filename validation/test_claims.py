@@ -27,6 +27,29 @@ JOBS = jobs()
 SECONDS = [j for j, cs in JOBS.items() if cs[0].tier == "seconds"]
 
 
+def test_the_packing_section_puts_the_paper_scale_first_and_labels_the_checks():
+    """Ishima's rows: the paper-scale claims form the first table; the small-packing checks
+    come last under a heading that says they are not reproductions, and every paper-scale
+    claim that heading names for a figure exists in the first table."""
+    import re
+    parts = render._parts("packing", [c for c in all_claims() if c.section == "packing"])
+    assert parts[0][0] == "At the paper's scale"
+    first = {c.name for c in parts[0][2]}
+    assert first and all(n.startswith("packing.paper_") and not n.endswith("_n1024")
+                         for n in first)
+    assert "not reproductions" in parts[-1][0]
+    assert not any(c.name.startswith("packing.paper_") for c in parts[-1][2])
+    named = re.findall(r"`(packing\.paper_\w+)`", parts[-1][1])
+    assert len(named) >= 9 and set(named) <= first
+
+
+def test_a_claim_that_no_part_takes_is_refused(monkeypatch):
+    from claims import section_module
+    monkeypatch.setattr(section_module("packing"), "PARTS", [("only", "x", lambda c: False)])
+    with pytest.raises(ValueError, match="no part of section packing takes it"):
+        render._parts("packing", [c for c in all_claims() if c.section == "packing"])
+
+
 def test_results_md_is_what_the_registry_writes():
     diff = render.differences()
     assert not diff, f"{diff}: regenerate with python validation/reproduce.py --write"

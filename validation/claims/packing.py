@@ -28,6 +28,35 @@ INTRO = ('Paper: Ishima, Saitoh, Otsuki, Hayakawa (2023). Units d = 1, k_N = 1, 
          '`validation/packing_rigidity.md` (quick tier), `validation/packing_rigidity_medium.md`, '
          '`validation/packing_dos_{quick,medium,full}.md`, `validation/packing_knobs.md`.')
 
+#: RESULTS.md's tables of this section (claims.render): the paper's figures at its scale
+#: first, then the same figures at the paper's smaller N, then the checks on small packings
+PARTS = [
+    ("At the paper's scale",
+     "The paper's statements judged on its ensemble: N = 1,024 x 5 packings (Figs. 4, 6) and "
+     "N = 4,096 x 10 (Figs. 5, 7-10, 14, 16) per phi = 0.83-0.90, by `python "
+     "validation/ishima_paper.py --tier paper` (one command, resumable from the committed "
+     "store; `docs/reference/packing.md`). A packing that is unjammed, not force-balanced, "
+     "not converged or unstable (a negative G or eigenvalue beyond the zero modes) enters no "
+     "mean; each row counts the packings used.",
+     lambda c: c.name.startswith("packing.paper_") and not c.name.endswith("_n1024")),
+    ("The N = 4,096 figures at the paper's smaller N",
+     "Figs. 7-10 and 16 again on the N = 1,024 ensemble (5 packings per phi): how they move "
+     "with size. The reproduction is the table above.",
+     lambda c: c.name.startswith("packing.paper_")),
+    ("Checks of our routes and knobs on small packings (not reproductions)",
+     "These rows check the machinery on one to eight packings of N = 256-4,096, most at "
+     "phi = 0.90: G by mode sum, solve and step strain, the printed J~, the DOS routes, the "
+     "effective Hessian, the knobs dphi and the force thresholds. Where a row quotes the "
+     "paper, it applies the paper's statement to those few small packings as a fast check "
+     "of the code, not as its reproduction, and it may part from the paper-scale row: the "
+     "reproduction of each figure is the row above that judges it (Fig. 4: "
+     "`packing.paper_g_phi`; Fig. 5: `packing.paper_g_little`, `packing.paper_g_little_figure`; "
+     "Fig. 6: `packing.paper_sign_change`, `packing.paper_sign_figure`; Figs. 7-9: "
+     "`packing.paper_bands`; Fig. 10: `packing.paper_rot_prefactor`; Fig. 14: "
+     "`packing.paper_rattlers`; Fig. 16: `packing.paper_dos_phi`).",
+     lambda c: True),
+]
+
 ROOT = Path(__file__).resolve().parents[2]
 STORED = "validation/regression/packing256.npz"
 EPS = 2.0 ** -52

@@ -73,15 +73,37 @@ def row(claim):
         when)) + " |"
 
 
+_TABLE_HEAD = ("| claim | paper | ours | verdict | regenerated within | command | "
+               "tier; recorded at |\n|---|---|---|---|---|---|---|\n")
+
+
+def _parts(key, claims):
+    """(sub-heading, introduction, claims) of a section: one part without a heading, or the
+    section module's ``PARTS`` ((heading, intro, predicate) each; a claim goes to the first
+    part whose predicate takes it, and one that no part takes is an error)."""
+    from . import section_module
+    parts = getattr(section_module(key), "PARTS", None)
+    if not parts:
+        return [(None, None, claims)]
+    out = [(h, i, []) for h, i, _ in parts]
+    for c in claims:
+        k = next((k for k, (_, _, take) in enumerate(parts) if take(c)), None)
+        if k is None:
+            raise ValueError(f"claim {c.name}: no part of section {key} takes it")
+        out[k][2].append(c)
+    return [p for p in out if p[2]]
+
+
 def results_md():
     """The text of RESULTS.md."""
     claims = all_claims()
     out = [HEADER]
     for key, heading, intro in sections():
-        rows = [row(c) for c in claims if c.section == key]
-        out.append(f"\n## {heading}\n\n{intro}\n\n"
-                   "| claim | paper | ours | verdict | regenerated within | command | "
-                   "tier; recorded at |\n|---|---|---|---|---|---|---|\n" + "\n".join(rows) + "\n")
+        out.append(f"\n## {heading}\n\n{intro}\n")
+        for sub, text, cs in _parts(key, [c for c in claims if c.section == key]):
+            if sub:
+                out.append(f"\n### {sub}\n\n{text}\n")
+            out.append("\n" + _TABLE_HEAD + "\n".join(row(c) for c in cs) + "\n")
     out.append("\n## Tiers\n\n" + tiers_table() + "\n")
     return "".join(out)
 
