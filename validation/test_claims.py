@@ -83,6 +83,19 @@ def test_seconds_claim_recomputes_within_tolerance(job):
         assert ok, f"{c.name}: {text}"
 
 
+@pytest.mark.slow   # reads ~600 pieces of the committed store: ~20 s a job when every piece
+#                     is fresh (test_no_long_claim_is_stale says so), hours where one is not
+@pytest.mark.parametrize("job", ["packing.ishima_paper", "packing.ishima_paper_1024"])
+def test_the_ishima_paper_tiers_regenerate_from_the_committed_store(job):
+    """Ishima's paper-scale tiers (hours): regenerated from the committed store, every claim
+    within its tolerance of the record."""
+    rec = records.load(job)
+    old, new = values_of(rec), recompute(JOBS[job][0], keep=tuple(rec.get("outputs", {})))
+    for c in JOBS[job]:
+        ok, text = c.check(old, new)
+        assert ok, f"{c.name}: {text}"
+
+
 def test_every_verdict_is_computed():
     """A verdict comes from the claim's function of the recorded values."""
     for c in all_claims():
