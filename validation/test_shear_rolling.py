@@ -382,6 +382,15 @@ def test_the_seeds_claim_judges_only_once_enough_seeds_cover_the_span(member, tm
     assert [m["seed"] for m in v["members"]] == [0, 1] and v["test"] is None
     assert "mean" not in v["members"][1]
     assert v["members"][1]["reached"] == pytest.approx(0.005, rel=1e-9)
+    # the record's check: the same segments give the same numbers; a seed that ran further
+    # is stated as such, not as a failure to reproduce
+    assert claim.seeds_check(v, claim.member_seeds(store, span, min_seeds=3).values)[0]
+    shutil.copy(shear_rolling.segments(folder)[2], part)
+    grown = claim.seeds_check(v, claim.member_seeds(store, span, min_seeds=3).values)
+    with np.load(shear_rolling.segments(folder)[2]) as z:
+        further = float(z["series"][-1, 1])
+    assert grown[0] and f"seed 1 to strain 0.005 -> {further:.4g}" in grown[1]
+    assert "store reached further" in grown[1] and further > 0.005
     said = claim.seeds_verdict(v)
     assert said.label == "not comparable"
     assert "1 of 3 seeds reach strain 0.01 (seed 1 at strain 0.0050)" in str(said)

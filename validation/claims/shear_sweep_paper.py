@@ -290,12 +290,8 @@ def member_scaling(store=None, span=SCALING_SPAN, lengths=SCALING_LENGTHS,
                                                     for v in noise + r * ramp]))}
              for r in SCALING_RISES]
     # what a further seed costs: the member's own core-hours (its segments' stamps) to each strain
-    spent, reach = [], []
-    for f in used:
-        with np.load(f) as z:
-            spent.append(float(z["stamp_seconds"]))
-            reach.append(float(z["series"][-1, 1]))
-    cost = {f"{g:g}": float(sum(c for c, r in zip(spent, reach) if r <= g + 1e-9) / 3600.0)
+    spent = stamped_seconds(used)
+    cost = {f"{g:g}": float(sum(c for c, r in spent if r <= g + 1e-9) / 3600.0)
             for g in (window[1], SEED_STRAIN, span[1])}
     return Result({"span": list(span), "segments": len(used), "rows": agg["rows"], "hurst": h,
                    "core_hours_to": cost, "block_ratio": ratio,
@@ -348,6 +344,16 @@ def scaling_verdict(v):
            "1 / sqrt(seeds))" if blind else
            f"; it rejects the paper's window (p = {pw['p']:.2g}), so it can see a transient of "
            "that size")))
+
+
+def stamped_seconds(files):
+    """Per segment file: the core-seconds its stamp records and the strain it ends at."""
+    import numpy as np
+    out = []
+    for f in files:
+        with np.load(f) as z:
+            out.append((float(z["stamp_seconds"]), float(z["series"][-1, 1])))
+    return out
 
 
 def inside(strain, lo, hi):
