@@ -8,8 +8,11 @@ hashes such a file from the text this process loaded (``SNAPSHOT``), or, where t
 unknown, records ``EDITED`` (stale at once).
 """
 
+import os
 import sys
 from pathlib import Path
+
+import pytest
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -52,6 +55,26 @@ def test_a_file_edited_before_the_snapshot_is_stale_at_once(monkeypatch):
     units = fp.code_units(tracer)
     assert set(units[M].values()) == {fp.EDITED}
     assert M in fp.units_changed(units)
+
+
+@pytest.mark.skipif(not Path("/proc/uptime").exists(), reason="the start time is read from /proc")
+def test_the_process_start_is_never_late_and_hardly_early(tmp_path):
+    """A file written just before a process starts (``git clone`` then ``pytest``) is not an
+    edit while it ran.  A child process's STARTED lies between the moment before it was
+    spawned, less the estimate's margin (two clock ticks and two hundredths of a second of
+    /proc/uptime: 0.04 s at 100 ticks/s) and as much again for the floors of both readings,
+    and the moment it imported the module (it is never later than that).
+    The old estimate from /proc/stat's whole-second ``btime`` less a second was 1-2 s early."""
+    import subprocess
+    import time
+    tick = 1.0 / os.sysconf("SC_CLK_TCK")
+    before = time.time()
+    out = subprocess.run([sys.executable, "-c", "import sys, time; sys.path.insert(0, "
+                          f"{str(HERE)!r}); from claims import fingerprint as fp; "
+                          "print(fp.STARTED, time.time())"],
+                         capture_output=True, text=True, check=True).stdout.split()
+    started, imported = float(out[0]), float(out[1])
+    assert before - 4 * (tick + 0.01) <= started <= imported
 
 
 def test_another_root_is_never_snapshotted(tmp_path):

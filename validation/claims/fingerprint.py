@@ -78,22 +78,27 @@ EDITED = "edited-while-running"
 
 
 def _process_start():
-    """Wall-clock time at which this process started (Linux: /proc; elsewhere now, at the
-    import of this module, which the validation scripts import before they compute)."""
+    """Wall-clock time at which this process started, never later than it (Linux: its start
+    in clock ticks since boot, from /proc/self/stat, on the boot clock of /proc/uptime, read
+    with the wall clock: within a tick or two; elsewhere now, at the import of this module,
+    which the validation scripts import before they compute).  /proc/stat's ``btime`` is
+    whole seconds: a file written in the second or two before the process (a ``git clone``
+    or ``pull`` just before ``pytest``) then looked edited while it ran."""
     now = time.time()
     try:
+        tick = 1.0 / os.sysconf("SC_CLK_TCK")
         with open("/proc/self/stat") as f:
             ticks = float(f.read().rsplit(")", 1)[1].split()[19])
-        with open("/proc/stat") as f:
-            boot = next(float(x.split()[1]) for x in f if x.startswith("btime"))
-        return min(boot + ticks / os.sysconf("SC_CLK_TCK"), now)
-    except (OSError, ValueError, IndexError, StopIteration):
+        with open("/proc/uptime") as f:
+            up = float(f.read().split()[0])
+        # uptime printed to 0.01 s and the start floored to a tick: two of each early
+        return min(time.time() - up + ticks * tick - 2 * (tick + 0.01), now)
+    except (OSError, ValueError, IndexError):
         return now
 
 
-#: modification times after this (/proc's start time less a second for its resolution)
-#: are edits made while this process ran
-STARTED = _process_start() - 1.0
+#: modification times after this are edits made while this process ran
+STARTED = _process_start()
 
 
 def _snapshot(root=ROOT):
