@@ -77,6 +77,23 @@ def test_the_process_start_is_never_late_and_hardly_early(tmp_path):
     assert before - 4 * (tick + 0.01) <= started <= imported
 
 
+def test_a_module_imported_after_the_snapshot_ran_its_text(monkeypatch):
+    """A file written after the process started but before the snapshot (a clone just before
+    pytest): its module, imported after the snapshot from the unchanged file, ran the
+    snapshot's text; imported before it, the text that ran is unknown; and a file changed
+    since the snapshot is unknown either way."""
+    text = (fp.ROOT / M).read_text()
+    monkeypatch.setattr(fp, "STARTED", _mtime() - 10)
+    monkeypatch.setitem(fp.SNAPSHOT, M, (text, _mtime()))
+    monkeypatch.setattr(fp, "PRELOADED", frozenset())
+    assert fp._source(M, fp.ROOT) == (text, False)
+    monkeypatch.setattr(fp, "PRELOADED", frozenset({M}))
+    assert fp._source(M, fp.ROOT) == (text, True)
+    monkeypatch.setattr(fp, "PRELOADED", frozenset())
+    monkeypatch.setitem(fp.SNAPSHOT, M, (text, _mtime() - 5))
+    assert fp._source(M, fp.ROOT) == (text, True)
+
+
 def test_another_root_is_never_snapshotted(tmp_path):
     (tmp_path / "fricstab").mkdir()
     (tmp_path / M).write_text("X = 1\n")

@@ -42,8 +42,12 @@ during a long run) is hashed as this process loaded it: the texts of the watched
 are read when this module is imported (:data:`SNAPSHOT`), at the start of the claim's or
 script's process, and a file modified since the process started is hashed from that text,
 so the stamp names the code that ran, and the result goes stale if the edit changed it.
-A file already modified between the process's start and that snapshot is ambiguous: its
-units are recorded as :data:`EDITED`, which matches no hash (stale at once).
+A file already modified between the process's start and that snapshot is ambiguous when
+its module was imported before the snapshot (:data:`PRELOADED`): its units are recorded as
+:data:`EDITED`, which matches no hash (stale at once).  A module imported after the snapshot
+from a file unchanged since (the same modification time) ran the snapshot's text (a file a
+``git clone`` wrote just before ``pytest``: ``validation/conftest.py`` imports this module
+before any test module).
 
 Hashes are of syntax trees with docstrings removed (``ast.dump``): comments,
 docstrings and formatting do not change what runs, so editing them does not
@@ -133,7 +137,8 @@ def _source(m, root):
     if Path(root).resolve() != ROOT.resolve() or path.stat().st_mtime <= STARTED:
         return text, False
     snap = SNAPSHOT.get(m)
-    if snap is not None and snap[1] <= STARTED:
+    if snap is not None and (snap[1] <= STARTED or (m not in PRELOADED
+                                                   and path.stat().st_mtime == snap[1])):
         if snap[0] != text:
             _warn(m, "stamped with the text this process loaded")
         return snap[0], False
@@ -402,6 +407,11 @@ def loaded_modules(root=ROOT):
         if _watched(rel):
             out.add(rel)
     return out
+
+
+#: checkout modules already imported when :data:`SNAPSHOT` was taken (they may have read a
+#: text older than the snapshot's)
+PRELOADED = frozenset(loaded_modules())
 
 
 def ran_units(codes, root=ROOT):
