@@ -124,7 +124,22 @@ def test_a_member_stopped_at_the_span_end_to_round_off_covers_it():
     got = ensemble_trend_test([(short, v) for v in x], (0.0, 1.0))
     assert got == exact
     with pytest.raises(ParameterError, match="run it further"):
-        ensemble_trend_test([(T * (1.0 - 1e-6), v) for v in x], (0.0, 1.0))
+        ensemble_trend_test([(T[:-2], v[:-2]) for v in x], (0.0, 1.0))
+
+
+def test_a_member_sampled_up_to_one_spacing_short_of_the_span_end_covers_it():
+    # frames every 7.2e-7 of strain end at 0.19999944 below a span's end of 0.2 (the paper
+    # preset's seeds, measured): no frame of the grid is missing inside the span, so it covers
+    # it; its last frame lies in the last bin as it would with one more frame at 0.2.  Two
+    # spacings short, a frame is missing: refused (above)
+    x = fgn(2000, 0.7, size=3, rng=23)
+    grid = T[:-1] + 0.5 / 1999                  # samples half a spacing inside both ends
+    got = ensemble_trend_test([(grid, v[:-1]) for v in x], (0.0, 1.0))
+    assert got["members"] == 3 and np.isfinite(got["p"])
+    with pytest.raises(ParameterError, match="run it further"):     # one whole spacing short
+        ensemble_trend_test([(T[:-1], v[:-1]) for v in x], (0.0, 1.0))
+    with pytest.raises(ParameterError, match="run it further"):
+        ensemble_trend_test([(T[1:] + 1.0 / 1999, v[1:]) for v in x], (0.0, 1.0))
 
 
 @pytest.mark.parametrize("call, match", [

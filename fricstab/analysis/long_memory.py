@@ -246,7 +246,7 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
     if not hi > lo:
         raise ParameterError(f"span {span!r}: (lo, hi) with hi > lo")
     n = int(n_bins)
-    slack = 1e-9 * (hi - lo)          # a run stopped at its target strain to round-off covers it
+    slack = 1e-9 * (hi - lo)          # round-off at the span's ends
     edges = np.linspace(lo, hi, n + 1)
     centres = 0.5 * (edges[1:] + edges[:-1])
     means = []
@@ -254,9 +254,13 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
         t, x = _series(t, 2, "axis"), _series(x, 2)
         if t.shape != x.shape:
             raise ParameterError(f"member {k}: t and x of lengths {t.size} and {x.size}")
-        if t[0] > lo + slack or t[-1] < hi - slack:
+        # a sampled member covers the span where no sample of its grid is missing inside it:
+        # its first and last samples lie within one sample spacing of the ends (a run cut at
+        # the last frame at or below hi, or stopped at hi to round-off)
+        if (t[0] - lo > slack and t[0] - lo >= t[1] - t[0]) or \
+                (hi - t[-1] > slack and hi - t[-1] >= t[-1] - t[-2]):
             raise ParameterError(f"member {k} covers {t[0]:g}..{t[-1]:g}, not the span "
-                                 f"{lo:g}..{hi:g}: run it further")
+                                 f"{lo:g}..{hi:g} to within its sample spacing: run it further")
         idx = np.searchsorted(edges, t, side="right") - 1
         idx[t == hi] = n - 1                          # the span's end belongs to the last bin
         keep = (idx >= 0) & (idx < n)
