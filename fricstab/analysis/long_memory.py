@@ -219,7 +219,9 @@ def ensemble_trend_test(members, span, n_bins=20, alpha=0.05):
     """A trend test that no memory can fool: independent members (seeds) of one protocol.
 
     ``members``: a list of ``(t, x)`` pairs, one per independent run (a strain axis and tau);
-    ``span = (lo, hi)`` of ``t``, common to all, is cut into ``n_bins`` equal bins.  Per member,
+    ``span = (lo, hi)`` of ``t``, common to all, is cut into ``n_bins`` equal bins; a member
+    covers the span where its first and last samples lie within one of its sample spacings of
+    the span's ends (no sample of its grid missing inside it; else ``ParameterError``).  Per member,
     the least-squares slope of its bin means against the bin centres: one number per member,
     and members are independent whatever each one's memory.  The test is Student's t on those
     slopes (:func:`scipy.stats.ttest_1samp`, ``M - 1`` degrees of freedom): steady where the
